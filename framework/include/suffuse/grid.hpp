@@ -1,0 +1,51 @@
+#pragma once
+// Structured regular background grid: geometry (immutable) and nodal state.
+// Nodes are numbered i + nx*(j + ny*k) with nx, ny, nz nodes per axis.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace suffuse {
+
+class GridGeometry {
+ public:
+  GridGeometry(int dim, std::array<double, 3> origin, std::array<double, 3> cell_size,
+               std::array<int, 3> cells);
+
+  int dim() const { return dim_; }
+  const std::array<double, 3>& origin() const { return origin_; }
+  const std::array<double, 3>& cell_size() const { return h_; }
+  const std::array<int, 3>& cells() const { return cells_; }
+  const std::array<int, 3>& nodes_per_axis() const { return nodes_; }
+  std::size_t node_count() const { return node_count_; }
+  double min_cell_size() const;
+  double upper(int axis) const { return origin_[axis] + h_[axis] * cells_[axis]; }
+
+  std::int64_t node_index(int i, int j, int k) const {
+    return i + static_cast<std::int64_t>(nodes_[0]) * (j + static_cast<std::int64_t>(nodes_[1]) * k);
+  }
+  std::array<int, 3> node_ijk(std::int64_t index) const;
+  std::array<double, 3> node_position(std::int64_t index) const;
+  // True when x (dim components) lies in the closed grid box.
+  bool contains(const double* x) const;
+
+ private:
+  int dim_;
+  std::array<double, 3> origin_, h_;
+  std::array<int, 3> cells_, nodes_;
+  std::size_t node_count_;
+};
+
+// Nodal state of one time step (structure-of-arrays, vectors interleaved by dim).
+struct NodeState {
+  std::vector<double> mass;      // [kg]
+  std::vector<double> momentum;  // [kg m/s]
+  std::vector<double> force;     // [N] internal + external
+  std::vector<double> velocity;  // [m/s] after the grid update
+  std::vector<double> acceleration;  // [m/s^2] of the grid update, after constraints
+
+  void resize(std::size_t nodes, int dim);
+};
+
+}  // namespace suffuse

@@ -1,0 +1,130 @@
+#pragma once
+// The plugin SDK entry: how a shared library registers its plugins.
+//
+//   #include <suffuse/plugin.hpp>
+//   class MyLaw : public suffuse::ErosionLaw {
+//    public:
+//     static suffuse::ParameterSchema schema();          // declares the parameters
+//     explicit MyLaw(const suffuse::PluginArgs& args);   // reads them once
+//     void rate(const suffuse::ErosionBatch&) const override;
+//   };
+//   SUFFUSE_PLUGIN_LIBRARY(registry) {
+//     registry.add<suffuse::ErosionLaw, MyLaw>("erosion/my_law", "One-line description.");
+//   }
+//
+// A library may register any number of plugins of any kinds.
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "suffuse/boundary_condition.hpp"
+#include "suffuse/erosion_law.hpp"
+#include "suffuse/parameters.hpp"
+#include "suffuse/phase.hpp"
+#include "suffuse/shape_function.hpp"
+#include "suffuse/version.hpp"
+#include "suffuse/writer.hpp"
+
+namespace suffuse {
+
+enum class PluginKind { ShapeFunction, Phase, ErosionLaw, BoundaryCondition, Writer };
+std::string to_string(PluginKind kind);
+
+template <class T> struct KindOf;
+template <> struct KindOf<ShapeFunction> { static constexpr PluginKind value = PluginKind::ShapeFunction; };
+template <> struct KindOf<Phase> { static constexpr PluginKind value = PluginKind::Phase; };
+template <> struct KindOf<ErosionLaw> { static constexpr PluginKind value = PluginKind::ErosionLaw; };
+template <> struct KindOf<BoundaryCondition> { static constexpr PluginKind value = PluginKind::BoundaryCondition; };
+template <> struct KindOf<Writer> { static constexpr PluginKind value = PluginKind::Writer; };
+
+// What a plugin's constructor receives.
+struct PluginArgs {
+  const Parameters& params;   // validated, defaults filled in
+  int dim;                    // 2 or 3
+  std::string instance;       // JSON pointer of the scene node, for messages
+};
+
+struct PluginInfo {
+  PluginKind kind;
+  std::string name;         // e.g. "phase/linear_elastic"
+  std::string description;  // one line
+  std::function<ParameterSchema()> schema;
+  // Returns a pointer to the kind's interface (ShapeFunction*, Phase*, ...),
+  // owned by the caller. Use Registry::create<Kind>() rather than this.
+  std::function<void*(const PluginArgs&)> factory;
+  std::string library;  // file the plugin was loaded from (set by the loader)
+};
+
+class Registry {
+ public:
+  template <class Kind, class Impl>
+  void add(std::string name, std::string description) {
+    static_assert(std::is_base_of_v<Kind, Impl>, "plugin class must derive from its kind");
+    PluginInfo info;
+    info.kind = KindOf<Kind>::value;
+    info.name = std::move(name);
+    info.description = std::move(description);
+    info.schema = &Impl::schema;
+    info.factory = [](const PluginArgs& args) -> void* {
+      return static_cast<Kind*>(new Impl(args));
+    };
+    add_info(std::move(info));
+  }
+
+  // Throws suffuse::Error on a duplicate name, naming both libraries.
+  void add_info(PluginInfo info);
+
+  const PluginInfo* find(const std::string& name) const;
+  const std::map<std::string, PluginInfo>& all() const { return plugins_; }
+  std::vector<std::string> names_of(PluginKind kind) const;
+
+  template <class Kind>
+  std::unique_ptr<Kind> create(const std::string& name, const PluginArgs& args) const {
+    const PluginInfo& info = checked(name, KindOf<Kind>::value);
+    return std::unique_ptr<Kind>(static_cast<Kind*>(info.factory(args)));
+  }
+
+  // Library being loaded; recorded in each PluginInfo added meanwhile.
+  void set_current_library(std::string path) { current_library_ = std::move(path); }
+
+ private:
+  const PluginInfo& checked(const std::string& name, PluginKind kind) const;
+  std::map<std::string, PluginInfo> plugins_;
+  std::string current_library_;
+};
+
+// What a plugin library exports, under the symbol name `suffuse_plugin_entry`.
+// The layout of this struct never changes: the loader reads abi_major first.
+struct PluginEntry {
+  int abi_major;
+  int abi_minor;
+  const char* framework_version;  // version of the SDK the library was built against
+  const char* build_type;         // "release" or "debug": mixing them is refused
+  void (*register_plugins)(Registry& registry);
+};
+
+#if defined(NDEBUG)
+inline constexpr const char* build_type = "release";
+#else
+inline constexpr const char* build_type = "debug";
+#endif
+
+}  // namespace suffuse
+
+#define SUFFUSE_PLUGIN_ENTRY_SYMBOL suffuse_plugin_entry
+
+// Defines the library's entry point and opens the body of its registration function.
+#define SUFFUSE_PLUGIN_LIBRARY(registry_arg)                                              \
+  static void suffuse_register_plugins_(::suffuse::Registry& registry_arg);              \
+  extern "C" __attribute__((visibility("default"))) const ::suffuse::PluginEntry*        \
+  SUFFUSE_PLUGIN_ENTRY_SYMBOL() {                                                       \
+    static const ::suffuse::PluginEntry entry{::suffuse::abi_major, ::suffuse::abi_minor, \
+                                              ::suffuse::framework_version,             \
+                                              ::suffuse::build_type,                    \
+                                              &suffuse_register_plugins_};              \
+    return &entry;                                                                      \
+  }                                                                                     \
+  static void suffuse_register_plugins_(::suffuse::Registry& registry_arg)

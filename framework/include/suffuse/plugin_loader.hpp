@@ -1,0 +1,48 @@
+#pragma once
+// Finds and loads plugin libraries into a Registry.
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "suffuse/plugin.hpp"
+
+namespace suffuse {
+
+struct LoadedLibrary {
+  std::filesystem::path path;
+  std::string framework_version;  // the SDK version it was built against
+  int abi_major = 0, abi_minor = 0;
+  std::vector<std::string> plugins;  // names it registered
+};
+
+class PluginLoader {
+ public:
+  explicit PluginLoader(Registry& registry) : registry_(registry) {}
+
+  // Loads one library. Throws suffuse::Error naming the file and the reason:
+  // the dlopen message, a missing entry point, another ABI major version, a
+  // debug/release mismatch, or a library that registers nothing.
+  // A file already loaded is skipped. Libraries are never unloaded.
+  void load_library(const std::filesystem::path& file);
+  // Loads every "*.so" file of a directory, in name order.
+  void load_directory(const std::filesystem::path& dir);
+  // A file is loaded, a directory is scanned; a missing path is an error.
+  void load_path(const std::filesystem::path& path);
+
+  // The paths searched after the scene's own: $SUFFUSE_PLUGIN_PATH (colon
+  // separated), then the plugin directory next to the core library
+  // (<libdir>/suffuse/plugins, which is also where the build tree puts them).
+  static std::vector<std::filesystem::path> default_search_path();
+  static std::filesystem::path bundled_plugin_directory();
+
+  const std::vector<LoadedLibrary>& libraries() const { return libraries_; }
+
+ private:
+  Registry& registry_;
+  std::set<std::filesystem::path> loaded_;
+  std::vector<LoadedLibrary> libraries_;
+};
+
+}  // namespace suffuse

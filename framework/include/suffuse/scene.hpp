@@ -1,0 +1,79 @@
+#pragma once
+// A scene: the validated, typed description of one run. Built from JSON once;
+// nothing downstream reads JSON again.
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "suffuse/diagnostics.hpp"
+#include "suffuse/parameters.hpp"
+#include "suffuse/plugin.hpp"
+#include "suffuse/plugin_loader.hpp"
+
+namespace suffuse {
+
+struct PluginNode {
+  std::string type;     // plugin name, e.g. "phase/linear_elastic"
+  std::string pointer;  // JSON pointer of the node
+  Parameters params;    // validated against the plugin's schema
+};
+
+struct MaterialSpec {
+  std::string name;
+  PluginNode phase;
+};
+
+struct BodySpec {
+  std::string name;
+  std::size_t material = 0;  // index into Scene::materials
+  std::array<double, 3> min{}, max{};
+  int points_per_cell = 2;  // per axis
+  std::array<double, 3> velocity{};
+};
+
+struct OutputSpec {
+  PluginNode writer;
+  std::optional<double> interval;  // [s]; absent: end time / 20
+};
+
+struct Scene {
+  std::filesystem::path file;
+  std::string name;  // file stem, names output series
+  std::string description;
+  int dim = 2;
+  std::array<double, 3> grid_origin{}, grid_cell_size{1, 1, 1};
+  std::array<int, 3> grid_cells{1, 1, 1};
+  PluginNode shape_function;
+  std::vector<MaterialSpec> materials;
+  std::vector<BodySpec> bodies;
+  std::vector<PluginNode> boundary_conditions;
+  std::array<double, 3> gravity{};
+  double damping = 0;  // local non-viscous damping coefficient
+  double end_time = 0;
+  std::optional<double> dt;  // absent: automatic from the CFL condition
+  double cfl = 0.5;
+  std::vector<OutputSpec> outputs;
+};
+
+// Reads a scene file, loads the plugins it needs (scene paths, then the
+// default search path) into `registry`, and validates the whole scene against
+// the core and plugin schemas. Throws SceneError listing every problem found,
+// or Error for unreadable files and libraries that fail to load.
+Scene load_scene(const std::filesystem::path& file, Registry& registry, PluginLoader& loader);
+// The same from JSON text; `name` stands for the file in messages and relative
+// plugin paths are resolved against `base_dir`.
+Scene parse_scene(const std::string& text, const std::string& name, const std::filesystem::path& base_dir,
+                  Registry& registry, PluginLoader& loader);
+
+// Schemas of the core sections of a scene, for `suffuse describe` and the docs.
+struct CoreSection {
+  std::string name;  // "scene", "grid", "time", "body", "output"
+  std::string description;
+  ParameterSchema schema;
+};
+std::vector<CoreSection> core_sections();
+
+}  // namespace suffuse

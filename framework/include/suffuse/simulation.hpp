@@ -1,0 +1,115 @@
+#pragma once
+// The MPM time loop: owns the grid, the material points and the plugin
+// instances of one scene, and advances them step by step (MUSL, see
+// docs/architecture.md).
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "suffuse/grid.hpp"
+#include "suffuse/plugin.hpp"
+#include "suffuse/points.hpp"
+#include "suffuse/scene.hpp"
+
+namespace suffuse {
+
+// Wall time spent in each stage of the step, for the run summary.
+struct StageTimes {
+  double shape = 0, reset = 0, p2g = 0, grid_update = 0, g2p = 0, remap = 0, stress = 0, output = 0;
+};
+
+struct Progress {
+  std::size_t step;
+  double time, end_time, dt;
+  std::size_t points;
+  double wall_seconds;
+};
+
+struct RunOptions {
+  std::filesystem::path output_dir;           // where writers put their files
+  std::function<void(const Progress&)> on_step;  // called after every step (may be empty)
+};
+
+struct RunSummary {
+  std::size_t steps = 0;
+  std::size_t points = 0;
+  double simulated_time = 0;
+  double wall_seconds = 0;
+  double point_updates_per_second = 0;
+  StageTimes stages;
+};
+
+class Simulation {
+ public:
+  // Builds grid, points and plugins from a validated scene.
+  Simulation(const Scene& scene, const Registry& registry);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // One explicit MUSL step of size dt().
+  void step();
+  // Steps until the end time, writing outputs; returns what it measured.
+  RunSummary run(const RunOptions& options);
+
+  double time() const { return time_; }
+  double dt() const { return dt_; }
+  std::size_t steps() const { return step_; }
+  const Scene& scene() const { return scene_; }
+  const PointSet& points() const { return points_; }
+  PointSet& points() { return points_; }
+  const GridGeometry& grid() const { return grid_; }
+  const NodeState& nodes() const { return nodes_; }
+  const StageTimes& stage_times() const { return times_; }
+
+  double total_mass() const;
+  std::array<double, 3> total_momentum() const;
+  // The automatic time step: cfl * h_min / max over materials of sqrt(M / rho).
+  double critical_time_step() const;
+
+ private:
+  struct MaterialRange {
+    std::size_t material;
+    PointRange range;
+  };
+
+  void create_points();
+  void check_points_in_grid() const;
+  void compute_shape_functions();
+  void reset_grid();
+  void points_to_grid();
+  void apply_external_forces();
+  void update_grid();
+  void grid_to_points();
+  void remap_momentum();
+  void update_stress();
+  void constrain_velocity();
+
+  Scene scene_;
+  GridGeometry grid_;
+  NodeState nodes_;
+  PointSet points_;
+  std::unique_ptr<ShapeFunction> shape_;
+  std::vector<std::unique_ptr<Phase>> phases_;
+  std::vector<std::unique_ptr<BoundaryCondition>> bcs_;
+  std::vector<std::unique_ptr<Writer>> writers_;
+  std::vector<MaterialRange> ranges_;
+  std::vector<std::string> body_names_;
+  std::vector<PointRange> body_ranges_;
+
+  int npp_ = 0;                          // nodes per point
+  std::vector<std::int64_t> node_ids_;   // n * npp
+  std::vector<double> weights_;          // n * npp
+  std::vector<double> gradients_;        // n * npp * dim
+
+  double time_ = 0, dt_ = 0;
+  std::size_t step_ = 0;
+  StageTimes times_;
+};
+
+}  // namespace suffuse

@@ -1,0 +1,12 @@
+#pragma once
+// Versions of the framework and of the plugin ABI.
+// A plugin built against another ABI major version is refused at load time;
+// minor versions only add to the SDK, so a newer core loads older-minor plugins.
+
+namespace suffuse {
+
+inline constexpr int abi_major = 1;
+inline constexpr int abi_minor = 0;
+inline constexpr const char* framework_version = "0.1.0";
+
+}  // namespace suffuse

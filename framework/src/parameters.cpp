@@ -1,0 +1,122 @@
+#include "suffuse/parameters.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "suffuse/error.hpp"
+
+namespace suffuse {
+
+namespace {
+std::string number_text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+}  // namespace
+
+std::string to_string(ParamType type) {
+  switch (type) {
+    case ParamType::Number: return "number";
+    case ParamType::Integer: return "integer";
+    case ParamType::Boolean: return "boolean";
+    case ParamType::String: return "string";
+    case ParamType::Choice: return "string";
+    case ParamType::Vector: return "array of numbers";
+    case ParamType::StringList: return "array of strings";
+  }
+  return "?";
+}
+
+std::string to_string(const ParamValue& value) {
+  struct Visitor {
+    std::string operator()(double v) const { return number_text(v); }
+    std::string operator()(long long v) const { return std::to_string(v); }
+    std::string operator()(bool v) const { return v ? "true" : "false"; }
+    std::string operator()(const std::string& v) const { return "\"" + v + "\""; }
+    std::string operator()(const std::vector<double>& v) const {
+      std::string s = "[";
+      for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + number_text(v[i]);
+      return s + "]";
+    }
+    std::string operator()(const std::vector<std::string>& v) const {
+      std::string s = "[";
+      for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", \"" : "\"") + v[i] + "\"";
+      return s + "]";
+    }
+  };
+  return std::visit(Visitor{}, value);
+}
+
+std::string Param::expectation(int dimension) const {
+  std::string text;
+  if (type == ParamType::Choice) {
+    text = "one of {";
+    for (std::size_t i = 0; i < choices.size(); ++i) text += (i ? ", " : "") + choices[i];
+    text += "}";
+    return text;
+  }
+  if (type == ParamType::Vector) {
+    int n = length > 0 ? length : dimension;
+    text = n > 0 ? "array of " + std::to_string(n) + " numbers" : "array of numbers (one per dimension)";
+  } else {
+    text = to_string(type);
+  }
+  const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
+  if (has_min && has_max) {
+    text += " in " + std::string(min_exclusive ? "(" : "[") + number_text(min) + ", " +
+            number_text(max) + (max_exclusive ? ")" : "]");
+  } else if (has_min) {
+    text += std::string(min_exclusive ? " > " : " >= ") + number_text(min);
+  } else if (has_max) {
+    text += std::string(max_exclusive ? " < " : " <= ") + number_text(max);
+  }
+  if (!unit.empty()) text += " [" + unit + "]";
+  return text;
+}
+
+Param& ParameterSchema::add(std::string name, ParamType type) {
+  for (const Param& p : params_)
+    if (p.name == name) throw Error("parameter '" + name + "' declared twice in one schema");
+  Param p;
+  p.name = std::move(name);
+  p.type = type;
+  params_.push_back(std::move(p));
+  return params_.back();
+}
+
+const Param* ParameterSchema::find(const std::string& name) const {
+  for (const Param& p : params_)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+const ParamValue& Parameters::get(const std::string& name) const {
+  auto it = values_.find(name);
+  if (it == values_.end())
+    throw Error("parameter '" + name + "' was not declared in the schema or has no value");
+  return it->second;
+}
+
+double Parameters::number(const std::string& name) const {
+  const ParamValue& v = get(name);
+  if (const auto* i = std::get_if<long long>(&v)) return static_cast<double>(*i);
+  return std::get<double>(v);
+}
+long long Parameters::integer(const std::string& name) const { return std::get<long long>(get(name)); }
+bool Parameters::boolean(const std::string& name) const { return std::get<bool>(get(name)); }
+const std::string& Parameters::string(const std::string& name) const {
+  return std::get<std::string>(get(name));
+}
+const std::vector<double>& Parameters::vector(const std::string& name) const {
+  return std::get<std::vector<double>>(get(name));
+}
+const std::vector<std::string>& Parameters::string_list(const std::string& name) const {
+  return std::get<std::vector<std::string>>(get(name));
+}
+std::optional<double> Parameters::maybe_number(const std::string& name) const {
+  if (!has(name)) return std::nullopt;
+  return number(name);
+}
+
+}  // namespace suffuse

@@ -1,0 +1,124 @@
+#include "suffuse/plugin_loader.hpp"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <boost/dll/runtime_symbol_info.hpp>
+#include <boost/dll/shared_library.hpp>
+#include <cstdlib>
+#include <cstring>
+
+#include "suffuse/error.hpp"
+
+namespace suffuse {
+
+namespace fs = std::filesystem;
+
+void PluginLoader::load_library(const fs::path& file) {
+  std::error_code ec;
+  fs::path canonical = fs::canonical(file, ec);
+  if (ec) throw Error("plugin library " + file.string() + " does not exist");
+  if (loaded_.count(canonical)) return;
+
+  // The library must stay loaded for the life of the process: plugin objects
+  // and the registry's factories point into its code. The handle is leaked on
+  // purpose and RTLD_NODELETE keeps the code mapped even if it were closed.
+  boost::dll::shared_library* library = nullptr;
+  try {
+    const auto mode = static_cast<boost::dll::load_mode::type>(
+        boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local | RTLD_NODELETE);
+    library = new boost::dll::shared_library(canonical.string(), mode);
+  } catch (const std::exception& e) {
+    const char* why = dlerror();  // boost keeps the dlerror text in its message as well
+    throw Error("cannot load plugin library " + canonical.string() + ": " + e.what() +
+                (why ? std::string(" (") + why + ")" : std::string()));
+  }
+  const char* symbol = "suffuse_plugin_entry";
+  if (!library->has(symbol))
+    throw Error(canonical.string() + " is not a suffuse plugin: it exports no '" + symbol +
+                "' entry point (define one with SUFFUSE_PLUGIN_LIBRARY)");
+  const PluginEntry* entry = library->get<const PluginEntry*()>(symbol)();
+  if (entry == nullptr) throw Error(canonical.string() + ": its entry point returned no plugin description");
+  if (entry->abi_major != abi_major)
+    throw Error(canonical.string() + " was built for plugin ABI " + std::to_string(entry->abi_major) + "." +
+                std::to_string(entry->abi_minor) + " but this suffuse (" + framework_version +
+                ") has plugin ABI " + std::to_string(abi_major) + "." + std::to_string(abi_minor) +
+                ": rebuild the plugin against this version");
+  if (entry->abi_minor > abi_minor)
+    throw Error(canonical.string() + " needs plugin ABI " + std::to_string(entry->abi_major) + "." +
+                std::to_string(entry->abi_minor) + ", newer than this suffuse's " + std::to_string(abi_major) +
+                "." + std::to_string(abi_minor) + ": upgrade suffuse");
+  if (entry->build_type == nullptr || std::strcmp(entry->build_type, build_type) != 0)
+    throw Error(canonical.string() + " is a " + (entry->build_type ? entry->build_type : "unknown") +
+                " build but this suffuse is a " + build_type +
+                " build: build the plugin with the same CMAKE_BUILD_TYPE (suffuse_add_plugin does)");
+  if (entry->register_plugins == nullptr) throw Error(canonical.string() + ": no registration function");
+
+  const std::size_t before = registry_.all().size();
+  std::vector<std::string> names_before;
+  for (const auto& [name, info] : registry_.all()) names_before.push_back(name);
+  registry_.set_current_library(canonical.string());
+  try {
+    entry->register_plugins(registry_);
+  } catch (...) {
+    registry_.set_current_library("");
+    throw;
+  }
+  registry_.set_current_library("");
+  if (registry_.all().size() == before)
+    throw Error(canonical.string() + " is a suffuse plugin library but registered no plugin");
+
+  LoadedLibrary record;
+  record.path = canonical;
+  record.framework_version = entry->framework_version ? entry->framework_version : "";
+  record.abi_major = entry->abi_major;
+  record.abi_minor = entry->abi_minor;
+  for (const auto& [name, info] : registry_.all())
+    if (!std::binary_search(names_before.begin(), names_before.end(), name)) record.plugins.push_back(name);
+  libraries_.push_back(std::move(record));
+  loaded_.insert(canonical);
+}
+
+void PluginLoader::load_directory(const fs::path& dir) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.is_regular_file() && entry.path().extension() == ".so") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) load_library(f);
+}
+
+void PluginLoader::load_path(const fs::path& path) {
+  if (fs::is_directory(path)) {
+    load_directory(path);
+  } else if (fs::exists(path)) {
+    load_library(path);
+  } else {
+    throw Error("plugin path " + path.string() + " does not exist");
+  }
+}
+
+fs::path PluginLoader::bundled_plugin_directory() {
+  // The directory of the core library itself, found at run time, so an
+  // installed tree can be moved and the build tree works without installing.
+  const fs::path core = boost::dll::this_line_location().string();
+  return core.parent_path() / "suffuse" / "plugins";
+}
+
+std::vector<fs::path> PluginLoader::default_search_path() {
+  std::vector<fs::path> paths;
+  if (const char* env = std::getenv("SUFFUSE_PLUGIN_PATH")) {
+    std::string s = env;
+    std::size_t start = 0;
+    while (start <= s.size()) {
+      std::size_t end = s.find(':', start);
+      if (end == std::string::npos) end = s.size();
+      if (end > start) paths.emplace_back(s.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+  const fs::path bundled = bundled_plugin_directory();
+  if (fs::is_directory(bundled)) paths.push_back(bundled);
+  return paths;
+}
+
+}  // namespace suffuse

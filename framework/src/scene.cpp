@@ -1,0 +1,347 @@
+#include "suffuse/scene.hpp"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "validation.hpp"
+
+namespace suffuse {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using detail::pointer_append;
+using detail::show;
+
+std::vector<CoreSection> core_sections() {
+  std::vector<CoreSection> sections;
+  {
+    ParameterSchema s;
+    s.string("description").fallback(std::string()).doc("What the scene shows and how to read its results");
+    s.integer("dimension").at_least(2).at_most(3).with_unit("-").doc(
+        "Spatial dimension: 2 (plane strain) or 3. A 1D column is a 2D strip one cell wide");
+    s.string_list("plugin_paths").fallback(std::vector<std::string>{}).doc(
+        "Plugin libraries or directories searched first, relative to the scene file");
+    s.vector("gravity").with_unit("m/s^2").fallback(std::vector<double>{}).doc(
+        "Gravitational acceleration, one component per dimension (default zero)");
+    s.number("damping").at_least(0).below(1).with_unit("-").fallback(0.0).doc(
+        "Local non-viscous damping coefficient for quasi-static problems (0: none)");
+    sections.push_back({"scene", "Top level of a scene file; also holds the sections grid, time, "
+                        "shape_function, materials, bodies, boundary_conditions and outputs", s});
+  }
+  {
+    ParameterSchema s;
+    s.vector("origin").with_unit("m").fallback(std::vector<double>{}).doc("Lower corner of the grid (default 0)");
+    s.vector("cell_size").with_unit("m").above(0).doc("Cell edge length along each axis");
+    s.vector("cells").with_unit("-").at_least(1).doc("Number of cells along each axis (integers)");
+    sections.push_back({"grid", "Structured regular background grid", s});
+  }
+  {
+    ParameterSchema s;
+    s.number("end").with_unit("s").above(0).doc("Simulation end time");
+    s.number("dt").with_unit("s").above(0).may_be_absent().doc(
+        "Fixed time step; absent: automatic, cfl * h / max wave speed");
+    s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
+        "Courant factor of the automatic time step");
+    sections.push_back({"time", "Time control", s});
+  }
+  {
+    ParameterSchema s;
+    s.string("name").fallback(std::string()).doc("Name of the body, for messages");
+    s.string("material").doc("Name of a material defined under /materials");
+    s.vector("min").with_unit("m").doc("Lower corner of the box filled with material points");
+    s.vector("max").with_unit("m").doc("Upper corner of the box filled with material points");
+    s.integer("points_per_cell").with_unit("-").at_least(1).at_most(8).fallback(2LL).doc(
+        "Material points per cell along each axis");
+    s.vector("velocity").with_unit("m/s").fallback(std::vector<double>{}).doc("Initial velocity (default 0)");
+    sections.push_back({"body", "A box of material points of one material (an entry of /bodies)", s});
+  }
+  {
+    ParameterSchema s;
+    s.number("interval").with_unit("s").above(0).may_be_absent().doc(
+        "Simulation time between frames; absent: end time / 20. The initial and final states are always written");
+    sections.push_back({"output", "Keys every writer node accepts besides its plugin's own (an entry of /outputs)", s});
+  }
+  return sections;
+}
+
+namespace {
+
+const ParameterSchema& section(const std::vector<CoreSection>& all, const std::string& name) {
+  for (const auto& s : all)
+    if (s.name == name) return s.schema;
+  throw Error("internal: no core section " + name);
+}
+
+std::array<double, 3> to_array(const std::vector<double>& v) {
+  std::array<double, 3> a{0, 0, 0};
+  for (std::size_t i = 0; i < v.size() && i < 3; ++i) a[i] = v[i];
+  return a;
+}
+
+std::string list(const std::vector<std::string>& names) {
+  std::string s = "{";
+  for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
+  return s + "}";
+}
+
+class SceneReader {
+ public:
+  SceneReader(const json& root, Registry& registry) : root_(root), registry_(registry), sections_(core_sections()) {}
+
+  Scene read(const std::string& name) {
+    Scene scene;
+    if (!root_.is_object()) {
+      error("", "wrong type", "a JSON object", show(root_), "core");
+      throw SceneError(name, diags_);
+    }
+    const std::set<std::string> structured = {"grid", "time", "shape_function", "materials",
+                                              "bodies", "boundary_conditions", "outputs"};
+    Parameters top = detail::validate_object(root_, section(sections_, "scene"), "", "core (scene)", 0,
+                                             diags_, structured);
+    dim_ = top.has("dimension") ? static_cast<int>(top.integer("dimension")) : 0;
+    scene.dim = dim_ ? dim_ : 2;
+    scene.description = top.string("description");
+    scene.damping = top.number("damping");
+    if (dim_) {
+      // Re-validate vectors that depend on the dimension now that it is known.
+      recheck_length(top, "gravity", "core (scene)", "");
+      scene.gravity = to_array(top.vector("gravity"));
+    }
+
+    read_grid(scene);
+    read_time(scene);
+    if (require("shape_function"))
+      scene.shape_function = plugin_node(root_["shape_function"], "/shape_function", PluginKind::ShapeFunction, {});
+    read_materials(scene);
+    read_bodies(scene);
+    if (root_.contains("boundary_conditions")) {
+      const json& bcs = root_["boundary_conditions"];
+      if (!bcs.is_array()) {
+        error("/boundary_conditions", "wrong type", "array of boundary condition nodes", show(bcs), "core (scene)");
+      } else {
+        for (std::size_t i = 0; i < bcs.size(); ++i)
+          scene.boundary_conditions.push_back(plugin_node(bcs[i], "/boundary_conditions/" + std::to_string(i),
+                                                          PluginKind::BoundaryCondition, {}));
+      }
+    }
+    read_outputs(scene);
+    if (!diags_.empty()) throw SceneError(name, diags_);
+    return scene;
+  }
+
+ private:
+  void error(std::string ptr, std::string problem, std::string expected, std::string found, std::string by) {
+    diags_.push_back({std::move(ptr), std::move(problem), std::move(expected), std::move(found), std::move(by)});
+  }
+
+  bool require(const std::string& key) {
+    if (root_.contains(key)) return true;
+    error("/" + key, "missing required section", "an object", "nothing", "core (scene)");
+    return false;
+  }
+
+  void recheck_length(const Parameters&, const std::string&, const std::string&, const std::string&) {
+    // validate_object already checked lengths when the dimension was known;
+    // at top level it was not (dimension is read in the same object), so check here.
+    const json* v = root_.contains("gravity") ? &root_["gravity"] : nullptr;
+    if (v && v->is_array() && static_cast<int>(v->size()) != dim_)
+      error("/gravity", "wrong number of components", "array of " + std::to_string(dim_) + " numbers [m/s^2]",
+            show(*v), "core (scene)");
+  }
+
+  PluginNode plugin_node(const json& node, const std::string& ptr, PluginKind kind,
+                         const std::set<std::string>& core_keys) {
+    PluginNode result;
+    result.pointer = ptr;
+    const std::vector<std::string> valid = registry_.names_of(kind);
+    const std::string expected = "a " + to_string(kind) + " plugin, one of " + list(valid);
+    if (!node.is_object()) {
+      error(ptr, "wrong type", "an object with a \"type\" key naming " + expected, show(node), "core");
+      return result;
+    }
+    if (!node.contains("type")) {
+      error(ptr + "/type", "missing plugin type", expected, "nothing", "core");
+      return result;
+    }
+    const json& type = node["type"];
+    if (!type.is_string()) {
+      error(ptr + "/type", "wrong type", expected, show(type), "core");
+      return result;
+    }
+    result.type = type.get<std::string>();
+    const PluginInfo* info = registry_.find(result.type);
+    if (!info) {
+      error(ptr + "/type", "unknown plugin", expected, "\"" + result.type + "\"", "core");
+      return result;
+    }
+    if (info->kind != kind) {
+      error(ptr + "/type", "plugin of the wrong kind (" + to_string(info->kind) + ")", expected,
+            "\"" + result.type + "\"", "core");
+      return result;
+    }
+    std::set<std::string> reserved = core_keys;
+    reserved.insert("type");
+    result.params = detail::validate_object(node, info->schema(), ptr, result.type, dim_, diags_, reserved);
+    return result;
+  }
+
+  void read_grid(Scene& scene) {
+    if (!require("grid")) return;
+    Parameters g = detail::validate_object(root_["grid"], section(sections_, "grid"), "/grid", "core (grid)",
+                                           dim_, diags_);
+    if (g.has("origin")) scene.grid_origin = to_array(g.vector("origin"));
+    if (g.has("cell_size")) scene.grid_cell_size = to_array(g.vector("cell_size"));
+    if (g.has("cells")) {
+      const auto& c = g.vector("cells");
+      for (std::size_t a = 0; a < c.size() && a < 3; ++a) {
+        if (c[a] != std::floor(c[a]) || c[a] > 1e8) {
+          error("/grid/cells/" + std::to_string(a), "not an integer", "integer >= 1", show(root_["grid"]["cells"][a]),
+                "core (grid)");
+        }
+        scene.grid_cells[a] = static_cast<int>(c[a]);
+      }
+    }
+  }
+
+  void read_time(Scene& scene) {
+    if (!require("time")) return;
+    Parameters t = detail::validate_object(root_["time"], section(sections_, "time"), "/time", "core (time)",
+                                           dim_, diags_);
+    if (t.has("end")) scene.end_time = t.number("end");
+    scene.dt = t.maybe_number("dt");
+    scene.cfl = t.number("cfl");
+  }
+
+  void read_materials(Scene& scene) {
+    if (!require("materials")) return;
+    const json& materials = root_["materials"];
+    if (!materials.is_object() || materials.empty()) {
+      error("/materials", "wrong type", "an object naming at least one material", show(materials), "core (scene)");
+      return;
+    }
+    for (const auto& [name, node] : materials.items()) {
+      MaterialSpec m;
+      m.name = name;
+      m.phase = plugin_node(node, pointer_append("/materials", name), PluginKind::Phase, {});
+      scene.materials.push_back(std::move(m));
+    }
+  }
+
+  void read_bodies(Scene& scene) {
+    if (!require("bodies")) return;
+    const json& bodies = root_["bodies"];
+    if (!bodies.is_array() || bodies.empty()) {
+      error("/bodies", "wrong type", "a non-empty array of bodies", show(bodies), "core (scene)");
+      return;
+    }
+    std::vector<std::string> material_names;
+    for (const auto& m : scene.materials) material_names.push_back(m.name);
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const std::string ptr = "/bodies/" + std::to_string(i);
+      Parameters b = detail::validate_object(bodies[i], section(sections_, "body"), ptr, "core (body)", dim_, diags_);
+      BodySpec body;
+      if (b.has("name")) body.name = b.string("name");
+      if (body.name.empty()) body.name = "body " + std::to_string(i);
+      if (b.has("points_per_cell")) body.points_per_cell = static_cast<int>(b.integer("points_per_cell"));
+      if (b.has("velocity")) body.velocity = to_array(b.vector("velocity"));
+      if (b.has("material")) {
+        const std::string& mat = b.string("material");
+        bool found = false;
+        for (std::size_t m = 0; m < scene.materials.size(); ++m)
+          if (scene.materials[m].name == mat) body.material = m, found = true;
+        if (!found)
+          error(ptr + "/material", "undefined material", "one of " + list(material_names), "\"" + mat + "\"",
+                "core (body)");
+      }
+      if (b.has("min") && b.has("max")) {
+        body.min = to_array(b.vector("min"));
+        body.max = to_array(b.vector("max"));
+        for (int a = 0; a < dim_; ++a) {
+          if (!(body.min[a] < body.max[a]))
+            error(ptr + "/max/" + std::to_string(a), "empty box", "a value above min[" + std::to_string(a) + "] = " +
+                  std::to_string(body.min[a]), std::to_string(body.max[a]), "core (body)");
+          const double lo = scene.grid_origin[a];
+          const double hi = lo + scene.grid_cell_size[a] * scene.grid_cells[a];
+          if (body.min[a] < lo || body.max[a] > hi)
+            error(ptr + (body.min[a] < lo ? "/min/" : "/max/") + std::to_string(a), "body outside the grid",
+                  "a box within the grid [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
+                  std::to_string(body.min[a] < lo ? body.min[a] : body.max[a]), "core (body)");
+        }
+      }
+      scene.bodies.push_back(body);
+    }
+  }
+
+  void read_outputs(Scene& scene) {
+    if (!root_.contains("outputs")) return;
+    const json& outputs = root_["outputs"];
+    if (!outputs.is_array()) {
+      error("/outputs", "wrong type", "array of writer nodes", show(outputs), "core (scene)");
+      return;
+    }
+    const ParameterSchema& core = section(sections_, "output");
+    for (std::size_t i = 0; i < outputs.size(); ++i) {
+      const std::string ptr = "/outputs/" + std::to_string(i);
+      OutputSpec out;
+      std::set<std::string> core_keys;
+      for (const Param& p : core.params()) core_keys.insert(p.name);
+      out.writer = plugin_node(outputs[i], ptr, PluginKind::Writer, core_keys);
+      if (outputs[i].is_object()) {
+        std::set<std::string> plugin_keys = {"type"};
+        if (const PluginInfo* info = registry_.find(out.writer.type))
+          for (const Param& p : info->schema().params()) plugin_keys.insert(p.name);
+        else
+          for (const auto& [k, v] : outputs[i].items()) plugin_keys.insert(k);  // already reported
+        Parameters o = detail::validate_object(outputs[i], core, ptr, "core (output)", dim_, diags_, plugin_keys);
+        out.interval = o.maybe_number("interval");
+      }
+      scene.outputs.push_back(std::move(out));
+    }
+  }
+
+  const json& root_;
+  Registry& registry_;
+  std::vector<CoreSection> sections_;
+  std::vector<Diagnostic> diags_;
+  int dim_ = 0;
+};
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& name, const fs::path& base_dir, Registry& registry,
+                  PluginLoader& loader) {
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw SceneError(name, {{"", "not valid JSON", "a JSON object", e.what(), "core"}});
+  }
+  // Plugins first: their schemas are needed to validate the rest.
+  if (root.is_object() && root.contains("plugin_paths") && root["plugin_paths"].is_array()) {
+    for (const auto& p : root["plugin_paths"]) {
+      if (!p.is_string()) continue;  // reported by validation
+      fs::path path = p.get<std::string>();
+      if (path.is_relative()) path = base_dir / path;
+      loader.load_path(path);
+    }
+  }
+  for (const auto& path : PluginLoader::default_search_path()) loader.load_path(path);
+
+  Scene scene = SceneReader(root, registry).read(name);
+  scene.name = fs::path(name).stem().string();
+  return scene;
+}
+
+Scene load_scene(const fs::path& file, Registry& registry, PluginLoader& loader) {
+  std::ifstream in(file);
+  if (!in) throw Error("cannot read scene file " + file.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  Scene scene = parse_scene(text.str(), file.string(), fs::absolute(file).parent_path(), registry, loader);
+  scene.file = file;
+  scene.name = file.stem().string();
+  return scene;
+}
+
+}  // namespace suffuse

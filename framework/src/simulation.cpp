@@ -1,0 +1,363 @@
+#include "suffuse/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "suffuse/error.hpp"
+
+namespace suffuse {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Adds the wall time of a scope to a stage counter.
+class StageTimer {
+ public:
+  explicit StageTimer(double& total) : total_(total), start_(Clock::now()) {}
+  ~StageTimer() { total_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+ private:
+  double& total_;
+  Clock::time_point start_;
+};
+
+// Voigt index of the symmetric tensor component (i, j): xx yy zz yz xz xy.
+constexpr int voigt(int i, int j) {
+  if (i == j) return i;
+  const int s = i + j;  // (1,2)->3 yz, (0,2)->4 xz, (0,1)->5 xy
+  return s == 3 ? 3 : (s == 2 ? 4 : 5);
+}
+
+// ---- kernels, one loop each, specialised by dimension ----
+
+template <int D>
+void p2g_kernel(std::size_t n, int npp, const std::int64_t* ids, const double* w, const double* dw,
+                const double* mass, const double* volume, const double* vel, const double* stress,
+                const std::array<double, 3>& g, double* node_mass, double* node_mom, double* node_force) {
+  for (std::size_t p = 0; p < n; ++p) {
+    const double m = mass[p], V = volume[p];
+    const double* v = vel + p * D;
+    const double* s = stress + p * 6;
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      const double wm = w[k] * m;
+      const double* grad = dw + k * D;
+      node_mass[I] += wm;
+      for (int i = 0; i < D; ++i) {
+        node_mom[I * D + i] += wm * v[i];
+        double f = wm * g[i];
+        for (int j = 0; j < D; ++j) f -= V * s[voigt(i, j)] * grad[j];
+        node_force[I * D + i] += f;
+      }
+    }
+  }
+}
+
+template <int D>
+void grid_update_kernel(std::size_t nodes, double dt, double damping, const double* mass, const double* mom,
+                        double* force, double* vel) {
+  for (std::size_t I = 0; I < nodes; ++I) {
+    const double m = mass[I];
+    if (m <= 0) {
+      for (int i = 0; i < D; ++i) vel[I * D + i] = 0;
+      continue;
+    }
+    for (int i = 0; i < D; ++i) {
+      const double v_old = mom[I * D + i] / m;
+      double f = force[I * D + i];
+      // Local non-viscous damping (Cundall): a force opposing the motion,
+      // proportional to the unbalanced force.
+      if (damping > 0 && v_old != 0) f -= damping * std::abs(f) * (v_old > 0 ? 1.0 : -1.0);
+      force[I * D + i] = f;
+      vel[I * D + i] = v_old + f / m * dt;
+    }
+  }
+}
+
+template <int D>
+void acceleration_kernel(std::size_t nodes, double dt, const double* mass, const double* mom, const double* vel,
+                         double* acc) {
+  for (std::size_t I = 0; I < nodes; ++I) {
+    const double m = mass[I];
+    for (int i = 0; i < D; ++i) acc[I * D + i] = m > 0 ? (vel[I * D + i] - mom[I * D + i] / m) / dt : 0.0;
+  }
+}
+
+template <int D>
+void g2p_kernel(std::size_t n, int npp, double dt, const std::int64_t* ids, const double* w, const double* node_vel,
+                const double* node_acc, double* x, double* u, double* vel) {
+  for (std::size_t p = 0; p < n; ++p) {
+    double dv[D] = {}, vg[D] = {};
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      for (int i = 0; i < D; ++i) {
+        dv[i] += w[k] * node_acc[I * D + i];
+        vg[i] += w[k] * node_vel[I * D + i];
+      }
+    }
+    for (int i = 0; i < D; ++i) {
+      vel[p * D + i] += dt * dv[i];  // FLIP: velocity from the nodal acceleration
+      x[p * D + i] += dt * vg[i];
+      u[p * D + i] += dt * vg[i];
+    }
+  }
+}
+
+template <int D>
+void remap_kernel(std::size_t n, int npp, const std::int64_t* ids, const double* w, const double* mass,
+                  const double* vel, double* node_mom) {
+  for (std::size_t p = 0; p < n; ++p) {
+    const double m = mass[p];
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      for (int i = 0; i < D; ++i) node_mom[I * D + i] += w[k] * m * vel[p * D + i];
+    }
+  }
+}
+
+template <int D>
+void velocity_gradient_kernel(std::size_t n, int npp, double dt, const std::int64_t* ids, const double* dw,
+                              const double* node_vel, double* L, double* strain, double* volume) {
+  for (std::size_t p = 0; p < n; ++p) {
+    double l[D][D] = {};
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      for (int i = 0; i < D; ++i)
+        for (int j = 0; j < D; ++j) l[i][j] += node_vel[I * D + i] * dw[k * D + j];
+    }
+    double* Lp = L + p * D * D;
+    double* e = strain + p * 6;
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) Lp[i * D + j] = l[i][j];
+    for (int i = 0; i < D; ++i)
+      for (int j = i; j < D; ++j) e[voigt(i, j)] += 0.5 * (l[i][j] + l[j][i]) * dt;
+    // Volume follows det(I + L dt) of the step.
+    double J;
+    if constexpr (D == 2) {
+      J = (1 + l[0][0] * dt) * (1 + l[1][1] * dt) - l[0][1] * l[1][0] * dt * dt;
+    } else {
+      const double a = 1 + l[0][0] * dt, b = l[0][1] * dt, c = l[0][2] * dt;
+      const double d = l[1][0] * dt, e2 = 1 + l[1][1] * dt, f = l[1][2] * dt;
+      const double g = l[2][0] * dt, h = l[2][1] * dt, i = 1 + l[2][2] * dt;
+      J = a * (e2 * i - f * h) - b * (d * i - f * g) + c * (d * h - e2 * g);
+    }
+    volume[p] *= J;
+  }
+}
+
+}  // namespace
+
+Simulation::Simulation(const Scene& scene, const Registry& registry)
+    : scene_(scene),
+      grid_(scene.dim, scene.grid_origin, scene.grid_cell_size, scene.grid_cells),
+      points_(scene.dim) {
+  const int dim = scene.dim;
+  shape_ = registry.create<ShapeFunction>(scene.shape_function.type,
+                                          {scene.shape_function.params, dim, scene.shape_function.pointer});
+  npp_ = shape_->nodes_per_point(dim);
+  for (const MaterialSpec& m : scene.materials) {
+    phases_.push_back(registry.create<Phase>(m.phase.type, {m.phase.params, dim, m.phase.pointer}));
+    phases_.back()->add_fields(points_);
+  }
+  for (const PluginNode& bc : scene.boundary_conditions) {
+    bcs_.push_back(registry.create<BoundaryCondition>(bc.type, {bc.params, dim, bc.pointer}));
+    bcs_.back()->setup(grid_);
+  }
+  for (const OutputSpec& out : scene.outputs)
+    writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
+  nodes_.resize(grid_.node_count(), dim);
+  create_points();
+  dt_ = scene.dt ? *scene.dt : critical_time_step();
+}
+
+Simulation::~Simulation() = default;
+
+double Simulation::critical_time_step() const {
+  double c_max = 0;
+  for (const auto& phase : phases_) c_max = std::max(c_max, std::sqrt(phase->p_wave_modulus() / phase->density()));
+  if (!(c_max > 0)) throw Error("cannot choose a time step automatically: no material has a positive wave speed; "
+                                "set /time/dt");
+  return scene_.cfl * grid_.min_cell_size() / c_max;
+}
+
+void Simulation::create_points() {
+  const int dim = scene_.dim;
+  for (const BodySpec& body : scene_.bodies) {
+    std::array<std::size_t, 3> count{1, 1, 1};
+    std::array<double, 3> spacing{1, 1, 1};
+    std::size_t total = 1;
+    for (int a = 0; a < dim; ++a) {
+      const double extent = body.max[a] - body.min[a];
+      count[a] = std::max<std::size_t>(
+          1, static_cast<std::size_t>(std::llround(extent / grid_.cell_size()[a] * body.points_per_cell)));
+      spacing[a] = extent / static_cast<double>(count[a]);
+      total *= count[a];
+    }
+    const Phase& phase = *phases_[body.material];
+    double volume = 1;
+    for (int a = 0; a < dim; ++a) volume *= spacing[a];  // per unit thickness in 2D
+    const std::size_t first = points_.append(total);
+    const auto& f = points_.core();
+    double* x = points_.data(f.position);
+    double* v = points_.data(f.velocity);
+    double* m = points_.data(f.mass);
+    double* V = points_.data(f.volume);
+    double* id = points_.data(f.material_id);
+    std::size_t p = first;
+    for (std::size_t k = 0; k < count[2]; ++k)
+      for (std::size_t j = 0; j < count[1]; ++j)
+        for (std::size_t i = 0; i < count[0]; ++i, ++p) {
+          const std::size_t idx[3] = {i, j, k};
+          for (int a = 0; a < dim; ++a) {
+            x[p * dim + a] = body.min[a] + (static_cast<double>(idx[a]) + 0.5) * spacing[a];
+            v[p * dim + a] = body.velocity[a];
+          }
+          V[p] = volume;
+          m[p] = volume * phase.density();
+          id[p] = static_cast<double>(body.material);
+        }
+    const PointRange range{first, first + total};
+    ranges_.push_back({body.material, range});
+    body_names_.push_back(body.name);
+    body_ranges_.push_back(range);
+    phase.initialise(points_, range);
+  }
+}
+
+void Simulation::check_points_in_grid() const {
+  const int dim = scene_.dim;
+  const double* x = points_.data(points_.core().position);
+  for (std::size_t p = 0; p < points_.size(); ++p) {
+    if (grid_.contains(x + p * dim)) continue;
+    std::string body;
+    for (std::size_t b = 0; b < body_ranges_.size(); ++b)
+      if (p >= body_ranges_[b].begin && p < body_ranges_[b].end) body = body_names_[b];
+    std::ostringstream pos;
+    for (int a = 0; a < dim; ++a) pos << (a ? ", " : "") << x[p * dim + a];
+    throw Error("material point " + std::to_string(p) + " of body '" + body + "' left the grid at step " +
+                std::to_string(step_) + " (t = " + std::to_string(time_) + " s): position (" + pos.str() +
+                "); enlarge /grid or check the boundary conditions and the time step");
+  }
+}
+
+void Simulation::compute_shape_functions() {
+  StageTimer t(times_.shape);
+  check_points_in_grid();
+  const std::size_t n = points_.size();
+  node_ids_.resize(n * npp_);
+  weights_.resize(n * npp_);
+  gradients_.resize(n * npp_ * scene_.dim);
+  shape_->evaluate(grid_, points_.values(points_.core().position), node_ids_, weights_, gradients_);
+}
+
+void Simulation::reset_grid() {
+  StageTimer t(times_.reset);
+  std::fill(nodes_.mass.begin(), nodes_.mass.end(), 0.0);
+  std::fill(nodes_.momentum.begin(), nodes_.momentum.end(), 0.0);
+  std::fill(nodes_.force.begin(), nodes_.force.end(), 0.0);
+}
+
+void Simulation::points_to_grid() {
+  StageTimer t(times_.p2g);
+  const auto& f = points_.core();
+  auto kernel = scene_.dim == 2 ? &p2g_kernel<2> : &p2g_kernel<3>;
+  kernel(points_.size(), npp_, node_ids_.data(), weights_.data(), gradients_.data(), points_.data(f.mass),
+         points_.data(f.volume), points_.data(f.velocity), points_.data(f.stress), scene_.gravity,
+         nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data());
+}
+
+void Simulation::apply_external_forces() {
+  for (const auto& bc : bcs_) bc->apply_forces(grid_, nodes_, time_);
+}
+
+void Simulation::constrain_velocity() {
+  for (const auto& bc : bcs_) bc->constrain_velocity(grid_, nodes_, time_ + dt_);
+}
+
+void Simulation::update_grid() {
+  StageTimer t(times_.grid_update);
+  const std::size_t nn = grid_.node_count();
+  if (scene_.dim == 2) {
+    grid_update_kernel<2>(nn, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
+                          nodes_.velocity.data());
+  } else {
+    grid_update_kernel<3>(nn, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
+                          nodes_.velocity.data());
+  }
+  constrain_velocity();
+  auto acc = scene_.dim == 2 ? &acceleration_kernel<2> : &acceleration_kernel<3>;
+  acc(nn, dt_, nodes_.mass.data(), nodes_.momentum.data(), nodes_.velocity.data(), nodes_.acceleration.data());
+}
+
+void Simulation::grid_to_points() {
+  StageTimer t(times_.g2p);
+  const auto& f = points_.core();
+  auto kernel = scene_.dim == 2 ? &g2p_kernel<2> : &g2p_kernel<3>;
+  kernel(points_.size(), npp_, dt_, node_ids_.data(), weights_.data(), nodes_.velocity.data(),
+         nodes_.acceleration.data(), points_.data(f.position), points_.data(f.displacement),
+         points_.data(f.velocity));
+}
+
+void Simulation::remap_momentum() {
+  StageTimer t(times_.remap);
+  // MUSL: nodal velocities for the strain rate come from the updated point
+  // momenta, which damps the small-mass-node noise of plain USL.
+  std::fill(nodes_.momentum.begin(), nodes_.momentum.end(), 0.0);
+  const auto& f = points_.core();
+  auto kernel = scene_.dim == 2 ? &remap_kernel<2> : &remap_kernel<3>;
+  kernel(points_.size(), npp_, node_ids_.data(), weights_.data(), points_.data(f.mass), points_.data(f.velocity),
+         nodes_.momentum.data());
+  const int dim = scene_.dim;
+  for (std::size_t I = 0; I < grid_.node_count(); ++I) {
+    const double m = nodes_.mass[I];
+    for (int i = 0; i < dim; ++i) nodes_.velocity[I * dim + i] = m > 0 ? nodes_.momentum[I * dim + i] / m : 0.0;
+  }
+  constrain_velocity();
+}
+
+void Simulation::update_stress() {
+  StageTimer t(times_.stress);
+  const auto& f = points_.core();
+  auto kernel = scene_.dim == 2 ? &velocity_gradient_kernel<2> : &velocity_gradient_kernel<3>;
+  kernel(points_.size(), npp_, dt_, node_ids_.data(), gradients_.data(), nodes_.velocity.data(),
+         points_.data(f.velocity_gradient), points_.data(f.strain), points_.data(f.volume));
+  for (const MaterialRange& r : ranges_) phases_[r.material]->update_stress(points_, r.range, dt_);
+}
+
+void Simulation::step() {
+  compute_shape_functions();
+  reset_grid();
+  points_to_grid();
+  apply_external_forces();
+  update_grid();
+  grid_to_points();
+  remap_momentum();
+  update_stress();
+  time_ += dt_;
+  ++step_;
+}
+
+double Simulation::total_mass() const {
+  const double* m = points_.data(points_.core().mass);
+  double total = 0;
+  for (std::size_t p = 0; p < points_.size(); ++p) total += m[p];
+  return total;
+}
+
+std::array<double, 3> Simulation::total_momentum() const {
+  const int dim = scene_.dim;
+  const double* m = points_.data(points_.core().mass);
+  const double* v = points_.data(points_.core().velocity);
+  std::array<double, 3> total{0, 0, 0};
+  for (std::size_t p = 0; p < points_.size(); ++p)
+    for (int i = 0; i < dim; ++i) total[i] += m[p] * v[p * dim + i];
+  return total;
+}
+
+}  // namespace suffuse

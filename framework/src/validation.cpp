@@ -1,0 +1,133 @@
+#include "validation.hpp"
+
+#include <cmath>
+
+namespace suffuse::detail {
+
+using nlohmann::json;
+
+std::string pointer_append(const std::string& pointer, const std::string& key) {
+  std::string escaped;
+  for (char c : key) {
+    if (c == '~') escaped += "~0";
+    else if (c == '/') escaped += "~1";
+    else escaped += c;
+  }
+  return pointer + "/" + escaped;
+}
+
+std::string show(const json& value) {
+  std::string text = value.dump();
+  if (text.size() > 60) text = text.substr(0, 57) + "...";
+  const char* kind = value.is_object()    ? "object "
+                     : value.is_array()   ? "array "
+                     : value.is_string()  ? "string "
+                     : value.is_boolean() ? "boolean "
+                     : value.is_null()    ? ""
+                                          : "";
+  return kind + text;
+}
+
+namespace {
+
+bool in_range(const Param& p, double v) {
+  if (p.min_exclusive ? !(v > p.min) : !(v >= p.min)) return false;
+  if (p.max_exclusive ? !(v < p.max) : !(v <= p.max)) return false;
+  return true;
+}
+
+// Returns the value, or nothing after appending a diagnostic.
+std::optional<ParamValue> convert(const json& v, const Param& p, const std::string& ptr,
+                                  const std::string& by, int dim, std::vector<Diagnostic>& out) {
+  auto fail = [&](const std::string& problem) {
+    out.push_back({ptr, problem, p.expectation(dim), show(v), by});
+    return std::nullopt;
+  };
+  switch (p.type) {
+    case ParamType::Number: {
+      if (!v.is_number()) return fail("wrong type");
+      double x = v.get<double>();
+      if (!in_range(p, x)) return fail("value out of range");
+      return ParamValue{x};
+    }
+    case ParamType::Integer: {
+      if (!v.is_number_integer()) return fail("wrong type");
+      long long x = v.get<long long>();
+      if (!in_range(p, static_cast<double>(x))) return fail("value out of range");
+      return ParamValue{x};
+    }
+    case ParamType::Boolean:
+      if (!v.is_boolean()) return fail("wrong type");
+      return ParamValue{v.get<bool>()};
+    case ParamType::String:
+      if (!v.is_string()) return fail("wrong type");
+      return ParamValue{v.get<std::string>()};
+    case ParamType::Choice: {
+      if (!v.is_string()) return fail("wrong type");
+      std::string s = v.get<std::string>();
+      for (const auto& c : p.choices)
+        if (c == s) return ParamValue{s};
+      return fail("unknown choice");
+    }
+    case ParamType::Vector: {
+      if (!v.is_array()) return fail("wrong type");
+      const int n = p.length > 0 ? p.length : dim;
+      if (n > 0 && static_cast<int>(v.size()) != n) return fail("wrong number of components");
+      std::vector<double> xs;
+      for (const auto& e : v) {
+        if (!e.is_number()) return fail("wrong type of component");
+        xs.push_back(e.get<double>());
+        if (!in_range(p, xs.back())) return fail("component out of range");
+      }
+      return ParamValue{xs};
+    }
+    case ParamType::StringList: {
+      if (!v.is_array()) return fail("wrong type");
+      std::vector<std::string> xs;
+      for (const auto& e : v) {
+        if (!e.is_string()) return fail("wrong type of element");
+        xs.push_back(e.get<std::string>());
+      }
+      return ParamValue{xs};
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+Parameters validate_object(const json& node, const ParameterSchema& schema, const std::string& pointer,
+                           const std::string& declared_by, int dim, std::vector<Diagnostic>& out,
+                           const std::set<std::string>& reserved) {
+  std::map<std::string, ParamValue> values;
+  if (!node.is_object()) {
+    out.push_back({pointer, "wrong type", "object", show(node), declared_by});
+    return Parameters{};
+  }
+  for (const auto& [key, value] : node.items()) {
+    if (reserved.count(key)) continue;
+    const std::string ptr = pointer_append(pointer, key);
+    const Param* p = schema.find(key);
+    if (!p) {
+      std::string keys;
+      for (const Param& q : schema.params()) keys += (keys.empty() ? "" : ", ") + q.name;
+      for (const std::string& r : reserved) keys += (keys.empty() ? "" : ", ") + r;
+      out.push_back({ptr, "unknown key", keys.empty() ? "no parameters" : "one of {" + keys + "}",
+                     "\"" + key + "\"", declared_by});
+      continue;
+    }
+    if (auto v = convert(value, *p, ptr, declared_by, dim, out)) values[key] = *v;
+  }
+  for (const Param& p : schema.params()) {
+    if (node.contains(p.name)) continue;
+    if (p.default_value) {
+      values[p.name] = *p.default_value;
+    } else if (p.required()) {
+      out.push_back({pointer_append(pointer, p.name), "missing required parameter", p.expectation(dim),
+                     "nothing", declared_by});
+    }
+  }
+  return Parameters{std::move(values)};
+}
+
+}  // namespace suffuse::detail

@@ -1,0 +1,80 @@
+// phase/linear_elastic: isotropic Hooke's law, small-strain incremental form,
+// with the Jaumann rate so that a rigid rotation does not create stress.
+#include <suffuse/plugin.hpp>
+
+namespace {
+
+class LinearElastic final : public suffuse::Phase {
+ public:
+  static suffuse::ParameterSchema schema() {
+    suffuse::ParameterSchema s;
+    s.number("density").with_unit("kg/m^3").above(0).doc("Mass density");
+    s.number("youngs_modulus").with_unit("Pa").above(0).doc("Young's modulus E");
+    s.number("poisson_ratio").with_unit("-").above(-1).below(0.5).fallback(0.0).doc("Poisson's ratio nu");
+    return s;
+  }
+
+  explicit LinearElastic(const suffuse::PluginArgs& args)
+      : rho_(args.params.number("density")),
+        E_(args.params.number("youngs_modulus")),
+        nu_(args.params.number("poisson_ratio")) {
+    G_ = E_ / (2 * (1 + nu_));
+    lambda_ = E_ * nu_ / ((1 + nu_) * (1 - 2 * nu_));
+  }
+
+  double density() const override { return rho_; }
+  double p_wave_modulus() const override { return lambda_ + 2 * G_; }
+
+  void update_stress(suffuse::PointSet& points, suffuse::PointRange range, double dt) const override {
+    if (points.dim() == 2)
+      update<2>(points, range, dt);
+    else
+      update<3>(points, range, dt);
+  }
+
+ private:
+  template <int D>
+  void update(suffuse::PointSet& points, suffuse::PointRange range, double dt) const {
+    const double* L = points.data(points.core().velocity_gradient);
+    double* stress = points.data(points.core().stress);
+    for (std::size_t p = range.begin; p < range.end; ++p) {
+      // Full 3x3 rate and spin; out-of-plane components stay zero in 2D (plane strain).
+      double l[3][3] = {};
+      for (int i = 0; i < D; ++i)
+        for (int j = 0; j < D; ++j) l[i][j] = L[p * D * D + i * D + j];
+      double d[3][3], w[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          d[i][j] = 0.5 * (l[i][j] + l[j][i]) * dt;
+          w[i][j] = 0.5 * (l[i][j] - l[j][i]) * dt;
+        }
+      double* s6 = stress + p * 6;
+      double s[3][3] = {{s6[0], s6[5], s6[4]}, {s6[5], s6[1], s6[3]}, {s6[4], s6[3], s6[2]}};
+      const double tr = d[0][0] + d[1][1] + d[2][2];
+      double ns[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          // Jaumann: sigma += C:d + w.sigma - sigma.w
+          double rot = 0;
+          for (int k = 0; k < 3; ++k) rot += w[i][k] * s[k][j] - s[i][k] * w[k][j];
+          ns[i][j] = s[i][j] + 2 * G_ * d[i][j] + (i == j ? lambda_ * tr : 0.0) + rot;
+        }
+      s6[0] = ns[0][0];
+      s6[1] = ns[1][1];
+      s6[2] = ns[2][2];
+      s6[3] = ns[1][2];
+      s6[4] = ns[0][2];
+      s6[5] = ns[0][1];
+    }
+  }
+
+  double rho_, E_, nu_, G_, lambda_;
+};
+
+}  // namespace
+
+SUFFUSE_PLUGIN_LIBRARY(registry) {
+  registry.add<suffuse::Phase, LinearElastic>(
+      "phase/linear_elastic",
+      "Isotropic linear elasticity, small-strain incremental, Jaumann-rotated stress");
+}
