@@ -21,13 +21,13 @@ void PluginLoader::load_library(const fs::path& file) {
   if (loaded_.count(canonical)) return;
 
   // The library must stay loaded for the life of the process: plugin objects
-  // and the registry's factories point into its code. The handle is leaked on
-  // purpose and RTLD_NODELETE keeps the code mapped even if it were closed.
-  boost::dll::shared_library* library = nullptr;
+  // and the registry's factories point into its code. RTLD_NODELETE keeps the
+  // code mapped even after the handle is closed.
+  std::shared_ptr<boost::dll::shared_library> library;
   try {
     const auto mode = static_cast<boost::dll::load_mode::type>(
         boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local | RTLD_NODELETE);
-    library = new boost::dll::shared_library(canonical.string(), mode);
+    library = std::make_shared<boost::dll::shared_library>(canonical.string(), mode);
   } catch (const std::exception& e) {
     const char* why = dlerror();  // boost keeps the dlerror text in its message as well
     throw Error("cannot load plugin library " + canonical.string() + ": " + e.what() +
@@ -77,6 +77,7 @@ void PluginLoader::load_library(const fs::path& file) {
     if (!std::binary_search(names_before.begin(), names_before.end(), name)) record.plugins.push_back(name);
   libraries_.push_back(std::move(record));
   loaded_.insert(canonical);
+  handles_.push_back(std::move(library));
 }
 
 void PluginLoader::load_directory(const fs::path& dir) {

@@ -289,10 +289,12 @@ class SceneReader {
       out.writer = plugin_node(outputs[i], ptr, PluginKind::Writer, core_keys);
       if (outputs[i].is_object()) {
         std::set<std::string> plugin_keys = {"type"};
-        if (const PluginInfo* info = registry_.find(out.writer.type))
-          for (const Param& p : info->schema().params()) plugin_keys.insert(p.name);
-        else
+        if (const PluginInfo* info = registry_.find(out.writer.type)) {
+          const ParameterSchema schema = info->schema();
+          for (const Param& p : schema.params()) plugin_keys.insert(p.name);
+        } else {
           for (const auto& [k, v] : outputs[i].items()) plugin_keys.insert(k);  // already reported
+        }
         Parameters o = detail::validate_object(outputs[i], core, ptr, "core (output)", dim_, diags_, plugin_keys);
         out.interval = o.maybe_number("interval");
       }

@@ -42,6 +42,10 @@ class PluginLoader {
  private:
   Registry& registry_;
   std::set<std::filesystem::path> loaded_;
+  // Library handles (boost::dll::shared_library, type-erased to keep Boost out
+  // of the SDK). They are opened with RTLD_NODELETE, so the code stays mapped
+  // for the life of the process even after the loader is gone.
+  std::vector<std::shared_ptr<void>> handles_;
   std::vector<LoadedLibrary> libraries_;
 };
 

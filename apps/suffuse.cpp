@@ -1,0 +1,267 @@
+// suffuse: the command-line front end.
+//   suffuse run SCENE.json [--output DIR] [--threads N] [--quiet]
+//   suffuse validate SCENE.json
+//   suffuse plugins
+//   suffuse describe NAME
+//   suffuse schema
+#include <unistd.h>
+
+#include <boost/program_options.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <suffuse/error.hpp>
+#include <suffuse/plugin_loader.hpp>
+#include <suffuse/scene.hpp>
+#include <suffuse/simulation.hpp>
+#include <suffuse/version.hpp>
+#include <vector>
+
+#ifdef SUFFUSE_HAVE_OPENMP
+#include <omp.h>
+#endif
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* usage =
+    "Usage:\n"
+    "  suffuse run SCENE.json [--output DIR] [--threads N] [--quiet]\n"
+    "                         run a scene; outputs go to DIR (default ./output/<scene name>)\n"
+    "  suffuse validate SCENE.json   check a scene against the plugin schemas, run nothing\n"
+    "  suffuse plugins               list the plugins found, with their libraries\n"
+    "  suffuse describe NAME         print the parameters of a plugin (or a core section:\n"
+    "                                scene, grid, time, body, output)\n"
+    "  suffuse schema                every parameter of every plugin and section, as JSON\n"
+    "Plugins are searched in the scene's plugin_paths, then $SUFFUSE_PLUGIN_PATH, then\n"
+    "the bundled plugin directory.\n";
+
+std::string format_duration(double s) {
+  if (!std::isfinite(s)) return "?";
+  std::ostringstream out;
+  const long total = std::lround(s);
+  if (total >= 3600) out << total / 3600 << "h" << std::setw(2) << std::setfill('0') << (total % 3600) / 60 << "m";
+  else if (total >= 60) out << total / 60 << "m" << std::setw(2) << std::setfill('0') << total % 60 << "s";
+  else out << std::fixed << std::setprecision(1) << s << "s";
+  return out.str();
+}
+
+void load_default_plugins(suffuse::PluginLoader& loader) {
+  for (const auto& path : suffuse::PluginLoader::default_search_path()) loader.load_path(path);
+}
+
+void print_schema_table(const std::string& title, const std::string& description,
+                        const suffuse::ParameterSchema& schema) {
+  std::cout << title << "\n  " << description << "\n";
+  if (schema.params().empty()) {
+    std::cout << "  (no parameters)\n";
+    return;
+  }
+  std::cout << "\n";
+  for (const suffuse::Param& p : schema.params()) {
+    std::cout << "  " << p.name << "\n";
+    std::cout << "      " << p.description << "\n";
+    std::cout << "      type: " << p.expectation(0);
+    if (p.default_value) std::cout << "; default: " << suffuse::to_string(*p.default_value);
+    else if (p.optional) std::cout << "; optional";
+    else std::cout << "; required";
+    std::cout << "\n";
+  }
+}
+
+int cmd_plugins() {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  load_default_plugins(loader);
+  for (const auto& lib : loader.libraries()) {
+    std::cout << lib.path.string() << "  (built for suffuse " << lib.framework_version << ", ABI " << lib.abi_major
+              << "." << lib.abi_minor << ")\n";
+    for (const auto& name : lib.plugins) {
+      const suffuse::PluginInfo* info = registry.find(name);
+      std::cout << "  " << std::left << std::setw(20) << suffuse::to_string(info->kind) << std::setw(28) << name
+                << info->description << "\n";
+    }
+  }
+  return 0;
+}
+
+int cmd_describe(const std::string& name) {
+  for (const auto& section : suffuse::core_sections()) {
+    if (section.name == name) {
+      print_schema_table("core section " + name, section.description, section.schema);
+      return 0;
+    }
+  }
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  load_default_plugins(loader);
+  const suffuse::PluginInfo* info = registry.find(name);
+  if (!info) {
+    std::string names;
+    for (const auto& [n, i] : registry.all()) names += (names.empty() ? "" : ", ") + n;
+    throw suffuse::Error("no plugin or core section named '" + name + "'; known plugins: " + names);
+  }
+  print_schema_table(name + " (" + suffuse::to_string(info->kind) + ", from " + info->library + ")",
+                     info->description, info->schema());
+  return 0;
+}
+
+nlohmann::json schema_json(const suffuse::ParameterSchema& schema) {
+  nlohmann::json params = nlohmann::json::array();
+  for (const suffuse::Param& p : schema.params()) {
+    nlohmann::json j = {{"name", p.name}, {"type", suffuse::to_string(p.type)}, {"unit", p.unit},
+                        {"description", p.description}, {"expected", p.expectation(0)},
+                        {"required", p.required()}};
+    if (p.default_value) j["default"] = suffuse::to_string(*p.default_value);
+    if (!p.choices.empty()) j["choices"] = p.choices;
+    params.push_back(j);
+  }
+  return params;
+}
+
+int cmd_schema() {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  load_default_plugins(loader);
+  nlohmann::json out;
+  out["suffuse_version"] = suffuse::framework_version;
+  for (const auto& s : suffuse::core_sections())
+    out["core"][s.name] = {{"description", s.description}, {"parameters", schema_json(s.schema)}};
+  for (const auto& [name, info] : registry.all())
+    out["plugins"][name] = {{"kind", suffuse::to_string(info.kind)}, {"description", info.description},
+                            {"parameters", schema_json(info.schema())}};
+  std::cout << out.dump(2) << "\n";
+  return 0;
+}
+
+int cmd_validate(const fs::path& scene_file) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const suffuse::Scene scene = suffuse::load_scene(scene_file, registry, loader);
+  std::cout << scene_file.string() << " is valid: " << scene.dim << "D, " << scene.materials.size()
+            << " material(s), " << scene.bodies.size() << " body(ies), " << scene.boundary_conditions.size()
+            << " boundary condition(s), " << scene.outputs.size() << " output(s)\n";
+  return 0;
+}
+
+int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, bool quiet) {
+#ifdef SUFFUSE_HAVE_OPENMP
+  omp_set_num_threads(threads);
+#else
+  if (threads != 1) throw suffuse::Error("--threads " + std::to_string(threads) + ": this build has no OpenMP");
+#endif
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const suffuse::Scene scene = suffuse::load_scene(scene_file, registry, loader);
+  suffuse::Simulation sim(scene, registry);
+
+  const bool progress = !quiet && isatty(STDERR_FILENO);
+  if (!quiet) {
+    std::cout << "suffuse " << suffuse::framework_version << ": " << scene_file.string() << "\n"
+              << "  " << scene.dim << "D grid " << scene.grid_cells[0] << " x " << scene.grid_cells[1];
+    if (scene.dim == 3) std::cout << " x " << scene.grid_cells[2];
+    std::cout << " cells, " << sim.points().size() << " material points, dt = " << sim.dt() << " s"
+              << (scene.dt ? " (fixed)" : " (automatic, cfl " + std::to_string(scene.cfl) + ")") << ", end "
+              << scene.end_time << " s\n";
+    if (!scene.outputs.empty()) std::cout << "  output: " << output.string() << "\n";
+  }
+
+  suffuse::RunOptions options;
+  options.output_dir = output;
+  auto last = std::chrono::steady_clock::now();
+  if (progress) {
+    options.on_step = [&](const suffuse::Progress& p) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last < std::chrono::milliseconds(250) && p.time < p.end_time) return;
+      last = now;
+      const double left = p.time > 0 ? p.wall_seconds * (p.end_time - p.time) / p.time : NAN;
+      std::fprintf(stderr, "\r  step %zu  t = %.4g s  dt = %.3g s  %zu points  wall %s  left %s   ", p.step, p.time,
+                   p.dt, p.points, format_duration(p.wall_seconds).c_str(), format_duration(left).c_str());
+      std::fflush(stderr);
+    };
+  }
+  const suffuse::RunSummary s = sim.run(options);
+  if (progress) std::fprintf(stderr, "\n");
+  if (!quiet) {
+    const auto& t = s.stages;
+    std::cout << "done: " << s.steps << " steps to t = " << s.simulated_time << " s in "
+              << format_duration(s.wall_seconds) << "; " << std::setprecision(3) << s.point_updates_per_second / 1e6
+              << " million point updates per second\n"
+              << "  stage times [s]: shape " << t.shape << ", reset " << t.reset << ", p2g " << t.p2g << ", grid "
+              << t.grid_update << ", g2p " << t.g2p << ", remap " << t.remap << ", stress " << t.stress
+              << ", output " << t.output << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    po::options_description opts("Options");
+    opts.add_options()("help,h", "show this help")("version", "print the version")(
+        "output,o", po::value<std::string>(), "output directory (run)")(
+        "threads,t", po::value<int>()->default_value(1), "number of threads (run)")(
+        "quiet,q", "no progress line and no summary (run)");
+    po::options_description hidden;
+    hidden.add_options()("command", po::value<std::string>())("argument", po::value<std::string>());
+    po::options_description all;
+    all.add(opts).add(hidden);
+    po::positional_options_description positional;
+    positional.add("command", 1).add("argument", 1);
+    po::variables_map vm;
+    po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+    po::notify(vm);
+
+    if (vm.count("help")) {
+      std::cout << usage << "\n" << opts;
+      return 0;
+    }
+    if (vm.count("version")) {
+      std::cout << "suffuse " << suffuse::framework_version << " (plugin ABI " << suffuse::abi_major << "."
+                << suffuse::abi_minor << ")\n";
+      return 0;
+    }
+    if (!vm.count("command")) {
+      std::cerr << usage;
+      return 2;
+    }
+    const std::string command = vm["command"].as<std::string>();
+    const bool has_arg = vm.count("argument") != 0;
+    const std::string arg = has_arg ? vm["argument"].as<std::string>() : "";
+    auto need_arg = [&](const char* what) {
+      if (!has_arg) throw suffuse::Error(std::string("suffuse ") + command + " needs " + what);
+    };
+    if (command == "run") {
+      need_arg("a scene file");
+      const int threads = vm["threads"].as<int>();
+      if (threads < 1) throw suffuse::Error("--threads must be at least 1");
+      const fs::path out = vm.count("output") ? fs::path(vm["output"].as<std::string>())
+                                              : fs::path("output") / fs::path(arg).stem();
+      return cmd_run(arg, out, threads, vm.count("quiet") != 0);
+    }
+    if (command == "validate") {
+      need_arg("a scene file");
+      return cmd_validate(arg);
+    }
+    if (command == "plugins") return cmd_plugins();
+    if (command == "describe") {
+      need_arg("a plugin name");
+      return cmd_describe(arg);
+    }
+    if (command == "schema") return cmd_schema();
+    std::cerr << "suffuse: unknown command '" << command << "'\n" << usage;
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "suffuse: error: " << e.what() << "\n";
+    return 1;
+  }
+}
