@@ -101,9 +101,10 @@ class SceneReader {
                                              diags_, structured);
     dim_ = top.has("dimension") ? static_cast<int>(top.integer("dimension")) : 0;
     scene.dim = dim_ ? dim_ : 2;
-    scene.description = top.string("description");
-    scene.damping = top.number("damping");
-    if (dim_) {
+    // A value that failed validation is absent: read only what is there.
+    if (top.has("description")) scene.description = top.string("description");
+    if (top.has("damping")) scene.damping = top.number("damping");
+    if (dim_ && top.has("gravity")) {
       // Re-validate vectors that depend on the dimension now that it is known.
       recheck_length(top, "gravity", "core (scene)", "");
       scene.gravity = to_array(top.vector("gravity"));
@@ -210,7 +211,7 @@ class SceneReader {
                                            dim_, diags_);
     if (t.has("end")) scene.end_time = t.number("end");
     scene.dt = t.maybe_number("dt");
-    scene.cfl = t.number("cfl");
+    if (t.has("cfl")) scene.cfl = t.number("cfl");
   }
 
   void read_materials(Scene& scene) {

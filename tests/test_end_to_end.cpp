@@ -1,0 +1,163 @@
+// End to end: the suffuse program runs an example scene and VTK's own XML
+// readers read back what it wrote.
+#include <gtest/gtest.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Frame {
+  double time;
+  std::string file;
+};
+
+std::vector<Frame> read_pvd(const fs::path& pvd) {
+  std::ifstream in(pvd);
+  std::stringstream s;
+  s << in.rdbuf();
+  const std::string text = s.str();
+  std::vector<Frame> frames;
+  const std::regex dataset(R"re(<DataSet timestep="([^"]+)"[^>]*file="([^"]+)")re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), dataset); it != std::sregex_iterator(); ++it)
+    frames.push_back({std::stod((*it)[1]), (*it)[2]});
+  return frames;
+}
+
+int run(const std::string& args, const fs::path& log) {
+  const std::string command = std::string(SUFFUSE_EXECUTABLE) + " " + args + " > " + log.string() + " 2>&1";
+  return WEXITSTATUS(std::system(command.c_str()));
+}
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("suffuse_e2e_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(EndToEnd, BarSceneWritesAReadableSeries) {
+  const fs::path out = fresh_dir("bar");
+  const fs::path scene = suffuse::test::source_dir() / "share/scenes/elastic_bar.json";
+  ASSERT_EQ(run("run " + scene.string() + " --output " + out.string(), out / "log.txt"), 0) << slurp(out / "log.txt");
+  EXPECT_NE(slurp(out / "log.txt").find("million point updates per second"), std::string::npos);
+
+  const auto frames = read_pvd(out / "elastic_bar.pvd");
+  // Initial state plus one frame every 0.002 s up to 0.12 s.
+  ASSERT_EQ(frames.size(), 61u);
+  EXPECT_EQ(frames.front().time, 0.0);
+  EXPECT_NEAR(frames.back().time, 0.12, 1e-12);
+  for (std::size_t i = 1; i < frames.size(); ++i) EXPECT_NEAR(frames[i].time - frames[i - 1].time, 0.002, 1e-9);
+
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName((out / frames.back().file).c_str());
+  reader->Update();
+  vtkPolyData* poly = reader->GetOutput();
+  ASSERT_EQ(poly->GetNumberOfPoints(), 80);  // 40 x 2 points
+  EXPECT_EQ(poly->GetNumberOfVerts(), 80);
+  struct Expected {
+    const char* name;
+    int components;
+  };
+  for (const Expected& e : {Expected{"displacement", 3}, Expected{"velocity", 3}, Expected{"stress", 6},
+                            Expected{"strain", 6}, Expected{"mass", 1}, Expected{"volume", 1},
+                            Expected{"material_id", 1}}) {
+    vtkDataArray* array = poly->GetPointData()->GetArray(e.name);
+    ASSERT_NE(array, nullptr) << e.name;
+    EXPECT_EQ(array->GetNumberOfComponents(), e.components) << e.name;
+    EXPECT_EQ(array->GetNumberOfTuples(), 80) << e.name;
+  }
+  // Total mass read back equals rho * L * h = 1000 * 1 * 0.05.
+  double mass = 0;
+  vtkDataArray* m = poly->GetPointData()->GetArray("mass");
+  for (vtkIdType p = 0; p < m->GetNumberOfTuples(); ++p) mass += m->GetTuple1(p);
+  EXPECT_NEAR(mass, 50.0, 1e-9);
+  // The bar has moved: some displacement is not zero.
+  double umax = 0;
+  vtkDataArray* u = poly->GetPointData()->GetArray("displacement");
+  for (vtkIdType p = 0; p < u->GetNumberOfTuples(); ++p) umax = std::max(umax, std::abs(u->GetComponent(p, 0)));
+  EXPECT_GT(umax, 1e-6);
+}
+
+TEST(EndToEnd, FailingRunLeavesReadableOutput) {
+  const fs::path out = fresh_dir("fail");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  j["bodies"][0]["velocity"] = {2.0, 0.0};  // the free end flies out of the grid
+  j["boundary_conditions"] = nlohmann::json::array({j["boundary_conditions"][1], j["boundary_conditions"][2]});
+  j["time"]["end"] = 1.0;
+  j["outputs"][0]["interval"] = 0.01;
+  std::ofstream(out / "flyaway.json") << j.dump(2);
+  ASSERT_NE(run("run " + (out / "flyaway.json").string() + " --output " + out.string() + " --quiet", out / "log.txt"),
+            0);
+  const std::string log = slurp(out / "log.txt");
+  EXPECT_NE(log.find("suffuse: error: material point"), std::string::npos) << log;
+  const auto frames = read_pvd(out / "flyaway.pvd");
+  ASSERT_GE(frames.size(), 2u);
+  for (const Frame& f : frames) {
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((out / f.file).c_str());
+    reader->Update();
+    EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 80) << f.file;
+  }
+}
+
+TEST(EndToEnd, InvalidSceneFailsBeforeWritingAnything) {
+  const fs::path out = fresh_dir("invalid");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  j["materials"]["steel_like"]["youngs_modulus"] = -1.0;
+  j["time"]["cfl"] = 2.0;
+  std::ofstream(out / "bad.json") << j.dump(2);
+  EXPECT_EQ(run("validate " + (out / "bad.json").string(), out / "validate.txt"), 1);
+  EXPECT_EQ(run("run " + (out / "bad.json").string() + " --output " + (out / "results").string(), out / "log.txt"), 1);
+  const std::string log = slurp(out / "log.txt");
+  EXPECT_NE(log.find("(2 errors)"), std::string::npos) << log;
+  EXPECT_NE(log.find("/materials/steel_like/youngs_modulus: value out of range; expected number > 0 [Pa], found -1.0 "
+                     "(declared by phase/linear_elastic)"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("/time/cfl: value out of range"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out / "results"));
+}
+
+TEST(EndToEnd, CommandsForPluginsAndHelp) {
+  const fs::path out = fresh_dir("cmds");
+  ASSERT_EQ(run("plugins", out / "plugins.txt"), 0);
+  const std::string plugins = slurp(out / "plugins.txt");
+  for (const char* name : {"shape/linear", "phase/linear_elastic", "bc/velocity", "writer/vtk_particles"})
+    EXPECT_NE(plugins.find(name), std::string::npos) << name;
+  EXPECT_NE(plugins.find("libsuffuse_phase_linear_elastic.so"), std::string::npos);
+
+  ASSERT_EQ(run("describe phase/linear_elastic", out / "describe.txt"), 0);
+  const std::string describe = slurp(out / "describe.txt");
+  EXPECT_NE(describe.find("youngs_modulus"), std::string::npos);
+  EXPECT_NE(describe.find("number > 0 [Pa]"), std::string::npos);
+
+  EXPECT_EQ(run("describe phase/nonexistent", out / "bad.txt"), 1);
+  EXPECT_NE(slurp(out / "bad.txt").find("no plugin or core section named 'phase/nonexistent'"), std::string::npos);
+  EXPECT_EQ(run("--version", out / "version.txt"), 0);
+  EXPECT_NE(slurp(out / "version.txt").find("suffuse 0.1.0"), std::string::npos);
+  EXPECT_EQ(run("--help", out / "help.txt"), 0);
+  EXPECT_NE(slurp(out / "help.txt").find("suffuse run SCENE.json"), std::string::npos);
+  EXPECT_EQ(run("frobnicate", out / "unknown.txt"), 2);
+}
+
+}  // namespace
