@@ -36,9 +36,10 @@ TEST_P(LinearShape, PartitionOfUnityAndLinearReproduction) {
     x[a] = grid.origin()[a];
     x[dim + a] = grid.upper(a);
   }
+  const std::vector<double> sizes(n * dim, 0.05);
   std::vector<std::int64_t> ids(n * npp);
   std::vector<double> w(n * npp), dw(n * npp * dim);
-  shape->evaluate(grid, x, ids, w, dw);
+  shape->evaluate(grid, x, sizes, ids, w, dw);
 
   // A linear field f(x) = c0 + c . x is reproduced exactly, and so is its gradient.
   const double c0 = 0.7, c[3] = {1.5, -2.25, 0.5};

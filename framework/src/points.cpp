@@ -21,6 +21,7 @@ PointSet::PointSet(int dim) : dim_(dim) {
   core_.velocity = add_field({"velocity", K::Vector, "m/s", "velocity", true});
   core_.mass = add_field({"mass", K::Scalar, "kg", "mass of the point", true});
   core_.volume = add_field({"volume", K::Scalar, "m^3", "current volume", true});
+  core_.size = add_field({"size", K::Vector, "m", "edge lengths of the point's initial domain (GIMP)", false});
   core_.stress = add_field({"stress", K::SymmetricTensor, "Pa",
                             "Cauchy stress, tension positive (xx, yy, zz, yz, xz, xy)", true});
   core_.strain = add_field({"strain", K::SymmetricTensor, "-",

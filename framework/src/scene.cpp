@@ -289,14 +289,11 @@ class SceneReader {
       for (const Param& p : core.params()) core_keys.insert(p.name);
       out.writer = plugin_node(outputs[i], ptr, PluginKind::Writer, core_keys);
       if (outputs[i].is_object()) {
-        std::set<std::string> plugin_keys = {"type"};
-        if (const PluginInfo* info = registry_.find(out.writer.type)) {
-          const ParameterSchema schema = info->schema();
-          for (const Param& p : schema.params()) plugin_keys.insert(p.name);
-        } else {
-          for (const auto& [k, v] : outputs[i].items()) plugin_keys.insert(k);  // already reported
-        }
-        Parameters o = detail::validate_object(outputs[i], core, ptr, "core (output)", dim_, diags_, plugin_keys);
+        // Unknown keys are the plugin's to report: the core checks only its own.
+        std::set<std::string> others;
+        for (const auto& [k, v] : outputs[i].items())
+          if (!core_keys.count(k)) others.insert(k);
+        Parameters o = detail::validate_object(outputs[i], core, ptr, "core (output)", dim_, diags_, others);
         out.interval = o.maybe_number("interval");
       }
       scene.outputs.push_back(std::move(out));

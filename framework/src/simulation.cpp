@@ -209,6 +209,7 @@ void Simulation::create_points() {
     double* m = points_.data(f.mass);
     double* V = points_.data(f.volume);
     double* id = points_.data(f.material_id);
+    double* size = points_.data(f.size);
     std::size_t p = first;
     for (std::size_t k = 0; k < count[2]; ++k)
       for (std::size_t j = 0; j < count[1]; ++j)
@@ -217,6 +218,7 @@ void Simulation::create_points() {
           for (int a = 0; a < dim; ++a) {
             x[p * dim + a] = body.min[a] + (static_cast<double>(idx[a]) + 0.5) * spacing[a];
             v[p * dim + a] = body.velocity[a];
+            size[p * dim + a] = spacing[a];
           }
           V[p] = volume;
           m[p] = volume * phase.density();
@@ -253,7 +255,8 @@ void Simulation::compute_shape_functions() {
   node_ids_.resize(n * npp_);
   weights_.resize(n * npp_);
   gradients_.resize(n * npp_ * scene_.dim);
-  shape_->evaluate(grid_, points_.values(points_.core().position), node_ids_, weights_, gradients_);
+  shape_->evaluate(grid_, points_.values(points_.core().position), points_.values(points_.core().size), node_ids_,
+                   weights_, gradients_);
 }
 
 void Simulation::reset_grid() {

@@ -54,8 +54,9 @@ class LinearShape final : public suffuse::ShapeFunction {
 
   int nodes_per_point(int dim) const override { return 1 << dim; }
 
-  void evaluate(const GridGeometry& grid, std::span<const double> positions, std::span<std::int64_t> node_ids,
-                std::span<double> weights, std::span<double> gradients) const override {
+  void evaluate(const GridGeometry& grid, std::span<const double> positions, std::span<const double> /*sizes*/,
+                std::span<std::int64_t> node_ids, std::span<double> weights,
+                std::span<double> gradients) const override {
     const std::size_t n = positions.size() / grid.dim();
     if (grid.dim() == 2)
       evaluate_linear<2>(grid, positions.data(), n, node_ids.data(), weights.data(), gradients.data());

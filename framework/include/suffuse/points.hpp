@@ -63,7 +63,7 @@ class PointSet {
 
   // Ids of the fields every simulation has.
   struct CoreFields {
-    FieldId position, displacement, velocity, mass, volume, stress, strain,
+    FieldId position, displacement, velocity, mass, volume, size, stress, strain,
         velocity_gradient, material_id;
   };
   const CoreFields& core() const { return core_; }
