@@ -1,0 +1,33 @@
+// Throughput of the explicit MPM step on the ~100,000-point self-weight column
+// (share/scenes/bench_column.json), one thread. items_per_second is the number
+// of material-point updates per second.
+#include <benchmark/benchmark.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <suffuse/plugin_loader.hpp>
+#include <suffuse/simulation.hpp>
+
+namespace {
+
+void column(benchmark::State& state, const char* shape) {
+  std::ifstream in(std::string(SUFFUSE_SOURCE_DIR) + "/share/scenes/bench_column.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  auto j = nlohmann::json::parse(text.str());
+  j["shape_function"]["type"] = shape;
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const suffuse::Scene scene = suffuse::parse_scene(j.dump(), "bench_column.json", ".", registry, loader);
+  suffuse::Simulation sim(scene, registry);
+  for (auto _ : state) sim.step();
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * sim.points().size()));
+  state.counters["points"] = static_cast<double>(sim.points().size());
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(column, linear, "shape/linear")->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(column, gimp, "shape/gimp")->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_MAIN();
