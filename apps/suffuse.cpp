@@ -23,9 +23,6 @@
 #include <suffuse/version.hpp>
 #include <vector>
 
-#ifdef SUFFUSE_HAVE_OPENMP
-#include <omp.h>
-#endif
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -153,15 +150,13 @@ int cmd_validate(const fs::path& scene_file) {
 }
 
 int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, bool quiet) {
-#ifdef SUFFUSE_HAVE_OPENMP
-  omp_set_num_threads(threads);
-#else
+#ifndef SUFFUSE_HAVE_OPENMP
   if (threads != 1) throw suffuse::Error("--threads " + std::to_string(threads) + ": this build has no OpenMP");
 #endif
   suffuse::Registry registry;
   suffuse::PluginLoader loader(registry);
   const suffuse::Scene scene = suffuse::load_scene(scene_file, registry, loader);
-  suffuse::Simulation sim(scene, registry);
+  suffuse::Simulation sim(scene, registry, threads);
 
   const bool progress = !quiet && isatty(STDERR_FILENO);
   if (!quiet) {

@@ -12,6 +12,7 @@
 namespace {
 
 void column(benchmark::State& state, const char* shape) {
+  const int threads = static_cast<int>(state.range(0));
   std::ifstream in(std::string(SUFFUSE_SOURCE_DIR) + "/share/scenes/bench_column.json");
   std::stringstream text;
   text << in.rdbuf();
@@ -20,7 +21,7 @@ void column(benchmark::State& state, const char* shape) {
   suffuse::Registry registry;
   suffuse::PluginLoader loader(registry);
   const suffuse::Scene scene = suffuse::parse_scene(j.dump(), "bench_column.json", ".", registry, loader);
-  suffuse::Simulation sim(scene, registry);
+  suffuse::Simulation sim(scene, registry, threads);
   for (auto _ : state) sim.step();
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * sim.points().size()));
   state.counters["points"] = static_cast<double>(sim.points().size());
@@ -28,6 +29,6 @@ void column(benchmark::State& state, const char* shape) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(column, linear, "shape/linear")->Unit(benchmark::kMillisecond)->MinTime(2.0);
-BENCHMARK_CAPTURE(column, gimp, "shape/gimp")->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK_CAPTURE(column, linear, "shape/linear")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+BENCHMARK_CAPTURE(column, gimp, "shape/gimp")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 BENCHMARK_MAIN();

@@ -161,6 +161,30 @@ TEST(Verification, Deterministic) {
   }
 }
 
+// Two threads give the numbers of one thread, up to the order of the nodal sums.
+TEST(Verification, ThreadsAgreeWithSerial) {
+  suffuse::Registry registry;
+  auto j = read_json(source_dir() / "share/scenes/self_weight_column.json");
+  j["outputs"] = nlohmann::json::array();
+  j["time"]["end"] = 1.0;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation serial(scene, registry, 1), parallel(scene, registry, 2);
+  serial.run({});
+  parallel.run({});
+  EXPECT_EQ(parallel.total_mass(), serial.total_mass());
+  const auto& a = serial.points();
+  const auto& b = parallel.points();
+  const auto sa = a.values(a.core().stress), sb = b.values(b.core().stress);
+  double scale = 0, diff = 0;
+  for (std::size_t k = 0; k < sa.size(); ++k) {
+    scale = std::max(scale, std::abs(sa[k]));
+    diff = std::max(diff, std::abs(sa[k] - sb[k]));
+  }
+  EXPECT_GT(scale, 1e5);
+  // Round-off in the summation order only, amplified over 566 steps.
+  EXPECT_LT(diff, 1e-9 * scale);
+}
+
 // A point leaving the grid stops the run with a message naming it.
 TEST(Verification, PointLeavingTheGridIsAnError) {
   auto j = free_body_scene(2);

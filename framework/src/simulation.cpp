@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <sstream>
 
 #include "suffuse/error.hpp"
@@ -33,10 +34,10 @@ constexpr int voigt(int i, int j) {
 // ---- kernels, one loop each, specialised by dimension ----
 
 template <int D>
-void p2g_kernel(std::size_t n, int npp, const std::int64_t* ids, const double* w, const double* dw,
+void p2g_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w, const double* dw,
                 const double* mass, const double* volume, const double* vel, const double* stress,
                 const std::array<double, 3>& g, double* node_mass, double* node_mom, double* node_force) {
-  for (std::size_t p = 0; p < n; ++p) {
+  for (std::size_t p = begin; p < end; ++p) {
     const double m = mass[p], V = volume[p];
     const double* v = vel + p * D;
     const double* s = stress + p * 6;
@@ -57,9 +58,9 @@ void p2g_kernel(std::size_t n, int npp, const std::int64_t* ids, const double* w
 }
 
 template <int D>
-void grid_update_kernel(std::size_t nodes, double dt, double damping, const double* mass, const double* mom,
+void grid_update_kernel(std::size_t begin, std::size_t end, double dt, double damping, const double* mass, const double* mom,
                         double* force, double* vel) {
-  for (std::size_t I = 0; I < nodes; ++I) {
+  for (std::size_t I = begin; I < end; ++I) {
     const double m = mass[I];
     if (m <= 0) {
       for (int i = 0; i < D; ++i) vel[I * D + i] = 0;
@@ -78,18 +79,18 @@ void grid_update_kernel(std::size_t nodes, double dt, double damping, const doub
 }
 
 template <int D>
-void acceleration_kernel(std::size_t nodes, double dt, const double* mass, const double* mom, const double* vel,
+void acceleration_kernel(std::size_t begin, std::size_t end, double dt, const double* mass, const double* mom, const double* vel,
                          double* acc) {
-  for (std::size_t I = 0; I < nodes; ++I) {
+  for (std::size_t I = begin; I < end; ++I) {
     const double m = mass[I];
     for (int i = 0; i < D; ++i) acc[I * D + i] = m > 0 ? (vel[I * D + i] - mom[I * D + i] / m) / dt : 0.0;
   }
 }
 
 template <int D>
-void g2p_kernel(std::size_t n, int npp, double dt, const std::int64_t* ids, const double* w, const double* node_vel,
+void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* w, const double* node_vel,
                 const double* node_acc, double* x, double* u, double* vel) {
-  for (std::size_t p = 0; p < n; ++p) {
+  for (std::size_t p = begin; p < end; ++p) {
     double dv[D] = {}, vg[D] = {};
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
@@ -108,9 +109,9 @@ void g2p_kernel(std::size_t n, int npp, double dt, const std::int64_t* ids, cons
 }
 
 template <int D>
-void remap_kernel(std::size_t n, int npp, const std::int64_t* ids, const double* w, const double* mass,
+void remap_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w, const double* mass,
                   const double* vel, double* node_mom) {
-  for (std::size_t p = 0; p < n; ++p) {
+  for (std::size_t p = begin; p < end; ++p) {
     const double m = mass[p];
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
@@ -121,9 +122,9 @@ void remap_kernel(std::size_t n, int npp, const std::int64_t* ids, const double*
 }
 
 template <int D>
-void velocity_gradient_kernel(std::size_t n, int npp, double dt, const std::int64_t* ids, const double* dw,
+void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
                               const double* node_vel, double* L, double* strain, double* volume) {
-  for (std::size_t p = 0; p < n; ++p) {
+  for (std::size_t p = begin; p < end; ++p) {
     double l[D][D] = {};
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
@@ -153,8 +154,9 @@ void velocity_gradient_kernel(std::size_t n, int npp, double dt, const std::int6
 
 }  // namespace
 
-Simulation::Simulation(const Scene& scene, const Registry& registry)
-    : scene_(scene),
+Simulation::Simulation(const Scene& scene, const Registry& registry, int threads)
+    : threads_(std::max(1, threads)),
+      scene_(scene),
       grid_(scene.dim, scene.grid_origin, scene.grid_cell_size, scene.grid_cells),
       points_(scene.dim) {
   const int dim = scene.dim;
@@ -172,11 +174,36 @@ Simulation::Simulation(const Scene& scene, const Registry& registry)
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
   nodes_.resize(grid_.node_count(), dim);
+  // Threads other than the first scatter into their own copy of the nodal
+  // arrays, summed in thread order afterwards: no atomics, and the same
+  // numbers for the same thread count.
+  scatter_.assign(threads_ - 1, std::vector<double>(grid_.node_count() * (1 + 2 * dim)));
   create_points();
   dt_ = scene.dt ? *scene.dt : critical_time_step();
 }
 
 Simulation::~Simulation() = default;
+
+template <class Body>
+void Simulation::for_chunks(std::size_t n, Body&& body) {
+  if (threads_ == 1) {
+    body(0, std::size_t{0}, n);
+    return;
+  }
+  // One contiguous chunk per thread; an exception in any chunk is rethrown
+  // here, after every thread has finished.
+  std::vector<std::exception_ptr> errors(threads_);
+#pragma omp parallel for num_threads(threads_) schedule(static, 1)
+  for (int t = 0; t < threads_; ++t) {
+    try {
+      body(t, n * t / threads_, n * (t + 1) / threads_);
+    } catch (...) {
+      errors[t] = std::current_exception();
+    }
+  }
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+}
 
 double Simulation::critical_time_step() const {
   double c_max = 0;
@@ -255,8 +282,15 @@ void Simulation::compute_shape_functions() {
   node_ids_.resize(n * npp_);
   weights_.resize(n * npp_);
   gradients_.resize(n * npp_ * scene_.dim);
-  shape_->evaluate(grid_, points_.values(points_.core().position), points_.values(points_.core().size), node_ids_,
-                   weights_, gradients_);
+  const int dim = scene_.dim;
+  const auto x = points_.values(points_.core().position);
+  const auto size = points_.values(points_.core().size);
+  for_chunks(n, [&](int, std::size_t b, std::size_t e) {
+    shape_->evaluate(grid_, x.subspan(b * dim, (e - b) * dim), size.subspan(b * dim, (e - b) * dim),
+                     std::span(node_ids_).subspan(b * npp_, (e - b) * npp_),
+                     std::span(weights_).subspan(b * npp_, (e - b) * npp_),
+                     std::span(gradients_).subspan(b * npp_ * dim, (e - b) * npp_ * dim));
+  });
 }
 
 void Simulation::reset_grid() {
@@ -270,9 +304,31 @@ void Simulation::points_to_grid() {
   StageTimer t(times_.p2g);
   const auto& f = points_.core();
   auto kernel = scene_.dim == 2 ? &p2g_kernel<2> : &p2g_kernel<3>;
-  kernel(points_.size(), npp_, node_ids_.data(), weights_.data(), gradients_.data(), points_.data(f.mass),
-         points_.data(f.volume), points_.data(f.velocity), points_.data(f.stress), scene_.gravity,
-         nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data());
+  const std::size_t nn = grid_.node_count(), dim = scene_.dim;
+  for_chunks(points_.size(), [&](int t, std::size_t b, std::size_t e) {
+    double* mass = nodes_.mass.data();
+    double* mom = nodes_.momentum.data();
+    double* force = nodes_.force.data();
+    if (t > 0) {
+      std::vector<double>& buffer = scatter_[t - 1];
+      std::fill(buffer.begin(), buffer.end(), 0.0);
+      mass = buffer.data();
+      mom = mass + nn;
+      force = mom + nn * dim;
+    }
+    kernel(b, e, npp_, node_ids_.data(), weights_.data(), gradients_.data(), points_.data(f.mass),
+           points_.data(f.volume), points_.data(f.velocity), points_.data(f.stress), scene_.gravity, mass, mom,
+           force);
+  });
+  for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+    for (const std::vector<double>& buffer : scatter_) {
+      for (std::size_t I = b; I < e; ++I) nodes_.mass[I] += buffer[I];
+      for (std::size_t k = b * dim; k < e * dim; ++k) {
+        nodes_.momentum[k] += buffer[nn + k];
+        nodes_.force[k] += buffer[nn + nn * dim + k];
+      }
+    }
+  });
 }
 
 void Simulation::apply_external_forces() {
@@ -286,25 +342,26 @@ void Simulation::constrain_velocity() {
 void Simulation::update_grid() {
   StageTimer t(times_.grid_update);
   const std::size_t nn = grid_.node_count();
-  if (scene_.dim == 2) {
-    grid_update_kernel<2>(nn, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
-                          nodes_.velocity.data());
-  } else {
-    grid_update_kernel<3>(nn, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
-                          nodes_.velocity.data());
-  }
+  auto update = scene_.dim == 2 ? &grid_update_kernel<2> : &grid_update_kernel<3>;
+  for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+    update(b, e, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
+           nodes_.velocity.data());
+  });
   constrain_velocity();
   auto acc = scene_.dim == 2 ? &acceleration_kernel<2> : &acceleration_kernel<3>;
-  acc(nn, dt_, nodes_.mass.data(), nodes_.momentum.data(), nodes_.velocity.data(), nodes_.acceleration.data());
+  for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+    acc(b, e, dt_, nodes_.mass.data(), nodes_.momentum.data(), nodes_.velocity.data(), nodes_.acceleration.data());
+  });
 }
 
 void Simulation::grid_to_points() {
   StageTimer t(times_.g2p);
   const auto& f = points_.core();
   auto kernel = scene_.dim == 2 ? &g2p_kernel<2> : &g2p_kernel<3>;
-  kernel(points_.size(), npp_, dt_, node_ids_.data(), weights_.data(), nodes_.velocity.data(),
-         nodes_.acceleration.data(), points_.data(f.position), points_.data(f.displacement),
-         points_.data(f.velocity));
+  for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
+    kernel(b, e, npp_, dt_, node_ids_.data(), weights_.data(), nodes_.velocity.data(), nodes_.acceleration.data(),
+           points_.data(f.position), points_.data(f.displacement), points_.data(f.velocity));
+  });
 }
 
 void Simulation::remap_momentum() {
@@ -314,13 +371,25 @@ void Simulation::remap_momentum() {
   std::fill(nodes_.momentum.begin(), nodes_.momentum.end(), 0.0);
   const auto& f = points_.core();
   auto kernel = scene_.dim == 2 ? &remap_kernel<2> : &remap_kernel<3>;
-  kernel(points_.size(), npp_, node_ids_.data(), weights_.data(), points_.data(f.mass), points_.data(f.velocity),
-         nodes_.momentum.data());
-  const int dim = scene_.dim;
-  for (std::size_t I = 0; I < grid_.node_count(); ++I) {
-    const double m = nodes_.mass[I];
-    for (int i = 0; i < dim; ++i) nodes_.velocity[I * dim + i] = m > 0 ? nodes_.momentum[I * dim + i] / m : 0.0;
-  }
+  const std::size_t nn = grid_.node_count(), dim = scene_.dim;
+  for_chunks(points_.size(), [&](int t, std::size_t b, std::size_t e) {
+    double* mom = nodes_.momentum.data();
+    if (t > 0) {
+      std::vector<double>& buffer = scatter_[t - 1];
+      std::fill(buffer.begin(), buffer.begin() + nn * dim, 0.0);
+      mom = buffer.data();
+    }
+    kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.mass), points_.data(f.velocity), mom);
+  });
+  for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+    for (const std::vector<double>& buffer : scatter_)
+      for (std::size_t k = b * dim; k < e * dim; ++k) nodes_.momentum[k] += buffer[k];
+    for (std::size_t I = b; I < e; ++I) {
+      const double m = nodes_.mass[I];
+      for (std::size_t i = 0; i < dim; ++i)
+        nodes_.velocity[I * dim + i] = m > 0 ? nodes_.momentum[I * dim + i] / m : 0.0;
+    }
+  });
   constrain_velocity();
 }
 
@@ -328,9 +397,15 @@ void Simulation::update_stress() {
   StageTimer t(times_.stress);
   const auto& f = points_.core();
   auto kernel = scene_.dim == 2 ? &velocity_gradient_kernel<2> : &velocity_gradient_kernel<3>;
-  kernel(points_.size(), npp_, dt_, node_ids_.data(), gradients_.data(), nodes_.velocity.data(),
-         points_.data(f.velocity_gradient), points_.data(f.strain), points_.data(f.volume));
-  for (const MaterialRange& r : ranges_) phases_[r.material]->update_stress(points_, r.range, dt_);
+  for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
+    kernel(b, e, npp_, dt_, node_ids_.data(), gradients_.data(), nodes_.velocity.data(),
+           points_.data(f.velocity_gradient), points_.data(f.strain), points_.data(f.volume));
+  });
+  for (const MaterialRange& r : ranges_) {
+    for_chunks(r.range.size(), [&](int, std::size_t b, std::size_t e) {
+      phases_[r.material]->update_stress(points_, {r.range.begin + b, r.range.begin + e}, dt_);
+    });
+  }
 }
 
 void Simulation::step() {

@@ -46,8 +46,10 @@ struct RunSummary {
 
 class Simulation {
  public:
-  // Builds grid, points and plugins from a validated scene.
-  Simulation(const Scene& scene, const Registry& registry);
+  // Builds grid, points and plugins from a validated scene. `threads` splits
+  // every stage into that many contiguous chunks (OpenMP); results depend on
+  // the thread count only through the order of floating-point sums.
+  Simulation(const Scene& scene, const Registry& registry, int threads = 1);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -59,6 +61,7 @@ class Simulation {
 
   double time() const { return time_; }
   double dt() const { return dt_; }
+  int threads() const { return threads_; }
   std::size_t steps() const { return step_; }
   const Scene& scene() const { return scene_; }
   const PointSet& points() const { return points_; }
@@ -89,6 +92,12 @@ class Simulation {
   void remap_momentum();
   void update_stress();
   void constrain_velocity();
+  // Calls body(thread, begin, end) on threads() contiguous chunks of [0, n).
+  template <class Body>
+  void for_chunks(std::size_t n, Body&& body);
+
+  int threads_ = 1;
+  std::vector<std::vector<double>> scatter_;  // per extra thread: mass, momentum, force
 
   Scene scene_;
   GridGeometry grid_;
