@@ -8,6 +8,8 @@ function(suffuse_add_plugin name)
   if(ARG_OUTPUT_DIRECTORY)
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
   elseif(DEFINED SUFFUSE_PLUGIN_OUTPUT_DIR)
+    # A bundled plugin: built next to the core and installed with it.
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${SUFFUSE_PLUGIN_OUTPUT_DIR})
+    install(TARGETS ${name} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/${SUFFUSE_PLUGIN_SUBDIR})
   endif()
 endfunction()

@@ -160,4 +160,14 @@ TEST(EndToEnd, CommandsForPluginsAndHelp) {
   EXPECT_EQ(run("frobnicate", out / "unknown.txt"), 2);
 }
 
+// docs/scene-reference.md is generated from the schemas: it must be current.
+TEST(EndToEnd, SceneReferenceIsUpToDate) {
+  const fs::path out = fresh_dir("reference");
+  const std::string command = std::string("env -u SUFFUSE_PLUGIN_PATH ") + SUFFUSE_EXECUTABLE + " reference > " +
+                              (out / "reference.md").string();
+  ASSERT_EQ(WEXITSTATUS(std::system(command.c_str())), 0);
+  EXPECT_EQ(slurp(out / "reference.md"), slurp(suffuse::test::source_dir() / "docs/scene-reference.md"))
+      << "regenerate it: ./build/bin/suffuse reference > docs/scene-reference.md";
+}
+
 }  // namespace
