@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <suffuse/simulation.hpp>
 
 #include "test_support.hpp"
@@ -96,6 +97,7 @@ TEST(Verification, SelfWeightColumnStress) {
     worst_u = std::max(worst_u, std::abs(u[2 * p + 1] - exact) / u_top);
   }
   EXPECT_LT(worst_u, 0.02) << "largest settlement error, relative to the top settlement";
+  RecordProperty("column_settlement_worst_error", std::to_string(worst_u));
   RecordProperty("column_stress_worst_relative_error", std::to_string(worst));
 }
 
@@ -132,7 +134,12 @@ TEST_P(FreeBody, ConservesMassAndMomentum) {
   EXPECT_GT(sim.steps(), 50u);
   EXPECT_EQ(sim.total_mass(), m0);
   const auto p1 = sim.total_momentum();
-  for (int a = 0; a < dim; ++a) EXPECT_NEAR(p1[a], p0[a], 1e-12 * std::abs(p0[0])) << "axis " << a;
+  double drift = 0;
+  for (int a = 0; a < dim; ++a) {
+    EXPECT_NEAR(p1[a], p0[a], 1e-12 * std::abs(p0[0])) << "axis " << a;
+    drift = std::max(drift, std::abs(p1[a] - p0[a]) / std::abs(p0[0]));
+  }
+  RecordProperty("momentum_relative_drift", [&] { std::ostringstream o; o << drift; return o.str(); }());
   const double* x = pts.data(pts.core().position);
   const double* s = pts.data(pts.core().stress);
   const double v[3] = {1.0, -0.5, 0.25};
