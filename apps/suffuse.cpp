@@ -52,6 +52,12 @@ std::string format_duration(double s) {
   return out.str();
 }
 
+std::string format_number(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
 void load_default_plugins(suffuse::PluginLoader& loader) {
   for (const auto& path : suffuse::PluginLoader::default_search_path()) loader.load_path(path);
 }
@@ -212,7 +218,7 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
               << "  " << scene.dim << "D grid " << scene.grid_cells[0] << " x " << scene.grid_cells[1];
     if (scene.dim == 3) std::cout << " x " << scene.grid_cells[2];
     std::cout << " cells, " << sim.points().size() << " material points, dt = " << sim.dt() << " s"
-              << (scene.dt ? " (fixed)" : " (automatic, cfl " + std::to_string(scene.cfl) + ")") << ", end "
+              << (scene.dt ? " (fixed)" : " (automatic, cfl " + format_number(scene.cfl) + ")") << ", end "
               << scene.end_time << " s\n";
     if (!scene.outputs.empty()) std::cout << "  output: " << output.string() << "\n";
   }

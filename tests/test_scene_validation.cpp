@@ -439,3 +439,37 @@ TEST(SceneValidation, UnknownKeyInOutputIsReportedOnce) {
 }
 
 }  // namespace
+
+// Problems that involve several parameters come from the plugin's check(),
+// reported with the other diagnostics, before anything is constructed.
+namespace {
+
+TEST(SceneValidation, BoundaryConditionCrossChecks) {
+  json j = base_scene();
+  j["boundary_conditions"][0] = {{"type", "bc/velocity"}, {"face", "bottom"}};
+  j["boundary_conditions"][1] = {{"type", "bc/velocity"}, {"face", "left"}, {"box_min", {0, 0}},
+                                 {"box_max", {1, 1}}, {"vx", 0.0}};
+  j["boundary_conditions"][2] = {{"type", "bc/velocity"}, {"face", "front"}, {"vz", 0.0}};
+  expect_diagnostics(j, {
+      {"/boundary_conditions/0", "no velocity component given", "at least one of vx, vy", "none", "bc/velocity"},
+      {"/boundary_conditions/1", "no unique node set", "either \"face\" or \"box_min\" and \"box_max\"", "both",
+       "bc/velocity"},
+      {"/boundary_conditions/2/vz", "no z axis in a 2D scene", "one of vx, vy", "vz", "bc/velocity"},
+      {"/boundary_conditions/2/face", "no such face in 2D", "one of {left, right, bottom, top}", "\"front\"",
+       "bc/velocity"},
+  });
+}
+
+TEST(SceneValidation, BoundaryConditionBoxChecks) {
+  json j = base_scene();
+  j["boundary_conditions"][0] = {{"type", "bc/velocity"}, {"box_min", {0, 0}}, {"vy", 0.0}};
+  j["boundary_conditions"][1] = {{"type", "bc/velocity"}, {"box_min", {0, 2}}, {"box_max", {1, 1}}, {"vx", 0.0}};
+  expect_diagnostics(j, {
+      {"/boundary_conditions/0/box_max", "missing box corner", "both box_min and box_max", "only one",
+       "bc/velocity"},
+      {"/boundary_conditions/1/box_max", "empty box", "box_max >= box_min in every component",
+       "box_max[1] < box_min[1]", "bc/velocity"},
+  });
+}
+
+}  // namespace

@@ -183,7 +183,13 @@ class SceneReader {
     }
     std::set<std::string> reserved = core_keys;
     reserved.insert("type");
+    const std::size_t before = diags_.size();
     result.params = detail::validate_object(node, info->schema(), ptr, result.type, dim_, diags_, reserved);
+    if (info->check && diags_.size() == before && dim_ != 0) {
+      for (const ParameterIssue& issue : info->check(result.params, dim_))
+        error(issue.key.empty() ? ptr : pointer_append(ptr, issue.key), issue.problem, issue.expected, issue.found,
+              result.type);
+    }
     return result;
   }
 

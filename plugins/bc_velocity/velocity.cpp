@@ -23,29 +23,41 @@ class VelocityBC final : public suffuse::BoundaryCondition {
     return s;
   }
 
+  static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters& p, int dim) {
+    std::vector<suffuse::ParameterIssue> issues;
+    const std::string components = dim == 3 ? "vx, vy, vz" : "vx, vy";
+    if (dim < 3 && p.has("vz")) issues.push_back({"vz", "no z axis in a 2D scene", "one of " + components, "vz"});
+    if (!p.has("vx") && !p.has("vy") && !p.has("vz"))
+      issues.push_back({"", "no velocity component given", "at least one of " + components, "none"});
+    const bool box = p.has("box_min") || p.has("box_max");
+    if (p.has("face") == box)
+      issues.push_back({"", "no unique node set", "either \"face\" or \"box_min\" and \"box_max\"",
+                        box ? "both" : "neither"});
+    else if (box && !(p.has("box_min") && p.has("box_max")))
+      issues.push_back({p.has("box_min") ? "box_max" : "box_min", "missing box corner", "both box_min and box_max",
+                        "only one"});
+    if (dim == 2 && p.has("face") && (p.string("face") == "front" || p.string("face") == "back"))
+      issues.push_back({"face", "no such face in 2D", "one of {left, right, bottom, top}", "\"" + p.string("face") + "\""});
+    if (box && p.has("box_min") && p.has("box_max")) {
+      const auto& lo = p.vector("box_min");
+      const auto& hi = p.vector("box_max");
+      for (int a = 0; a < dim; ++a)
+        if (lo[a] > hi[a])
+          issues.push_back({"box_max", "empty box", "box_max >= box_min in every component",
+                            "box_max[" + std::to_string(a) + "] < box_min[" + std::to_string(a) + "]"});
+    }
+    return issues;
+  }
+
+  // The parameters have passed schema() and check().
   explicit VelocityBC(const suffuse::PluginArgs& args) : dim_(args.dim), where_(args.instance) {
     const auto& p = args.params;
     const char* names[3] = {"vx", "vy", "vz"};
-    for (int c = 0; c < 3; ++c) {
-      if (!p.has(names[c])) continue;
-      if (c >= dim_) throw suffuse::Error(where_ + "/vz: a z velocity needs a 3D scene (declared by bc/velocity)");
-      components_.push_back({c, p.number(names[c])});
-    }
-    if (components_.empty())
-      throw suffuse::Error(where_ + ": no velocity component given; expected at least one of vx, vy" +
-                           std::string(dim_ == 3 ? ", vz" : "") + " (declared by bc/velocity)");
-    const bool has_box = p.has("box_min") || p.has("box_max");
-    if (p.has("face") == has_box)
-      throw suffuse::Error(where_ + ": expected either \"face\" or \"box_min\" and \"box_max\", found " +
-                           (has_box ? "both" : "neither") + " (declared by bc/velocity)");
+    for (int c = 0; c < dim_; ++c)
+      if (p.has(names[c])) components_.push_back({c, p.number(names[c])});
     if (p.has("face")) {
       face_ = p.string("face");
-      if (dim_ == 2 && (face_ == "front" || face_ == "back"))
-        throw suffuse::Error(where_ + "/face: expected left, right, bottom or top in 2D, found \"" + face_ +
-                             "\" (declared by bc/velocity)");
     } else {
-      if (!p.has("box_min") || !p.has("box_max"))
-        throw suffuse::Error(where_ + ": a box needs both box_min and box_max (declared by bc/velocity)");
       box_min_ = p.vector("box_min");
       box_max_ = p.vector("box_max");
     }
@@ -71,7 +83,7 @@ class VelocityBC final : public suffuse::BoundaryCondition {
       }
       if (in) nodes_.push_back(static_cast<std::int64_t>(I));
     }
-    if (nodes_.empty()) throw suffuse::Error(where_ + ": the box contains no grid node (declared by bc/velocity)");
+    if (nodes_.empty()) throw suffuse::Error(where_ + ": the box from box_min to box_max contains no grid node (declared by bc/velocity)");
   }
 
   void constrain_velocity(const suffuse::GridGeometry&, suffuse::NodeState& state, double) const override {

@@ -5,6 +5,8 @@
 //   class MyLaw : public suffuse::ErosionLaw {
 //    public:
 //     static suffuse::ParameterSchema schema();          // declares the parameters
+//     // optional: problems involving several parameters, reported with the scene's errors
+//     static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters&, int dim);
 //     explicit MyLaw(const suffuse::PluginArgs& args);   // reads them once
 //     void rate(const suffuse::ErosionBatch&) const override;
 //   };
@@ -40,6 +42,16 @@ template <> struct KindOf<ErosionLaw> { static constexpr PluginKind value = Plug
 template <> struct KindOf<BoundaryCondition> { static constexpr PluginKind value = PluginKind::BoundaryCondition; };
 template <> struct KindOf<Writer> { static constexpr PluginKind value = PluginKind::Writer; };
 
+// A problem that involves several parameters of one node, found by a
+// plugin's optional static check(). `key` names the parameter to point at
+// ("" for the node itself).
+struct ParameterIssue {
+  std::string key;
+  std::string problem;
+  std::string expected;
+  std::string found;
+};
+
 // What a plugin's constructor receives.
 struct PluginArgs {
   const Parameters& params;   // validated, defaults filled in
@@ -55,6 +67,9 @@ struct PluginInfo {
   // Returns a pointer to the kind's interface (ShapeFunction*, Phase*, ...),
   // owned by the caller. Use Registry::create<Kind>() rather than this.
   std::function<void*(const PluginArgs&)> factory;
+  // Optional cross-parameter check, run during scene validation after the
+  // schema checks passed, before anything is constructed.
+  std::function<std::vector<ParameterIssue>(const Parameters&, int dim)> check;
   std::string library;  // file the plugin was loaded from (set by the loader)
 };
 
@@ -71,6 +86,8 @@ class Registry {
     info.factory = [](const PluginArgs& args) -> void* {
       return static_cast<Kind*>(new Impl(args));
     };
+    // A plugin may declare `static std::vector<ParameterIssue> check(const Parameters&, int dim)`.
+    if constexpr (requires(const Parameters& p) { Impl::check(p, 2); }) info.check = &Impl::check;
     add_info(std::move(info));
   }
 
