@@ -74,7 +74,10 @@ void print_schema_table(const std::string& title, const std::string& description
     std::cout << "  " << p.name << "\n";
     std::cout << "      " << p.description << "\n";
     std::cout << "      type: " << p.expectation(0);
-    if (p.default_value) std::cout << "; default: " << suffuse::to_string(*p.default_value);
+    if (p.default_value && p.type == suffuse::ParamType::Vector &&
+        std::get<std::vector<double>>(*p.default_value).empty())
+      std::cout << "; default: zeros";
+    else if (p.default_value) std::cout << "; default: " << suffuse::to_string(*p.default_value);
     else if (p.optional) std::cout << "; optional";
     else std::cout << "; required";
     std::cout << "\n";

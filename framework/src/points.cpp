@@ -19,8 +19,8 @@ PointSet::PointSet(int dim) : dim_(dim) {
   core_.position = add_field({"position", K::Vector, "m", "current position", false});
   core_.displacement = add_field({"displacement", K::Vector, "m", "displacement since the start", true});
   core_.velocity = add_field({"velocity", K::Vector, "m/s", "velocity", true});
-  core_.mass = add_field({"mass", K::Scalar, "kg", "mass of the point", true});
-  core_.volume = add_field({"volume", K::Scalar, "m^3", "current volume", true});
+  core_.mass = add_field({"mass", K::Scalar, "kg", "mass of the point (per metre of thickness in 2D)", true});
+  core_.volume = add_field({"volume", K::Scalar, "m^3", "current volume (per metre of thickness in 2D: m^2)", true});
   core_.size = add_field({"size", K::Vector, "m", "edge lengths of the point's initial domain (GIMP)", false});
   core_.stress = add_field({"stress", K::SymmetricTensor, "Pa",
                             "Cauchy stress, tension positive (xx, yy, zz, yz, xz, xy)", true});

@@ -332,6 +332,7 @@ void Simulation::points_to_grid() {
 }
 
 void Simulation::apply_external_forces() {
+  StageTimer t(times_.grid_update);
   for (const auto& bc : bcs_) bc->apply_forces(grid_, nodes_, time_);
 }
 

@@ -42,7 +42,7 @@ struct NodeState {
   std::vector<double> mass;      // [kg]
   std::vector<double> momentum;  // [kg m/s]
   std::vector<double> force;     // [N] internal + external
-  std::vector<double> velocity;  // [m/s] after the grid update
+  std::vector<double> velocity;  // [m/s] of the grid update, then of the MUSL remap
   std::vector<double> acceleration;  // [m/s^2] of the grid update, after constraints
 
   void resize(std::size_t nodes, int dim);

@@ -18,7 +18,8 @@ class ShapeFunction {
   // the grid box; sizes are the edge lengths of the point's domain) fill
   // node_ids (n*npp), weights (n*npp) and gradients (n*npp*dim, d/dx_0 first).
   // Nodes a point does not reach must still be valid indices with zero weight
-  // and gradient. Called once per step for all points: no per-point virtual call.
+  // and gradient. Called once per step on large batches (one per thread):
+  // never once per point.
   virtual void evaluate(const GridGeometry& grid, std::span<const double> positions,
                         std::span<const double> sizes, std::span<std::int64_t> node_ids,
                         std::span<double> weights, std::span<double> gradients) const = 0;
