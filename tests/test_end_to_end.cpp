@@ -120,6 +120,29 @@ TEST(EndToEnd, FailingRunLeavesReadableOutput) {
   }
 }
 
+// Frames land on multiples of the interval even after thousands of steps, and
+// two writers do not overwrite each other.
+TEST(EndToEnd, OutputScheduleAndSeveralWriters) {
+  const fs::path out = fresh_dir("schedule");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  j["time"] = {{"end", 1.0}, {"dt", 1e-4}};
+  j["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", 0.01}},
+                  {{"type", "writer/vtk_particles"}, {"interval", 0.25}, {"compress", false}}};
+  std::ofstream(out / "schedule.json") << j.dump(2);
+  ASSERT_EQ(run("run " + (out / "schedule.json").string() + " --output " + out.string() + " --quiet", out / "log.txt"),
+            0)
+      << slurp(out / "log.txt");
+  const auto fine = read_pvd(out / "schedule_0.pvd");
+  const auto coarse = read_pvd(out / "schedule_1.pvd");
+  ASSERT_EQ(fine.size(), 101u);
+  ASSERT_EQ(coarse.size(), 5u);
+  for (std::size_t i = 0; i < fine.size(); ++i) EXPECT_NEAR(fine[i].time, 0.01 * i, 1e-12) << "frame " << i;
+  for (std::size_t i = 0; i < coarse.size(); ++i) EXPECT_NEAR(coarse[i].time, 0.25 * i, 1e-12) << "frame " << i;
+  EXPECT_TRUE(fs::exists(out / fine.back().file));
+  EXPECT_TRUE(fs::exists(out / coarse.back().file));
+  EXPECT_NE(fine.back().file, coarse.back().file);
+}
+
 TEST(EndToEnd, InvalidSceneFailsBeforeWritingAnything) {
   const fs::path out = fresh_dir("invalid");
   auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");

@@ -289,15 +289,15 @@ TEST(SceneValidation, MissingSeveralSections) {
 TEST(SceneValidation, BodyOutsideTheGrid) {
   json j = base_scene();
   j["bodies"][0]["max"] = {0.25, 11.0};  // the grid ends at y = 42 * 0.25 = 10.5
-  expect_diagnostics(j, {{"/bodies/0/max/1", "body outside the grid", "a box within the grid [0.000000, 10.500000]",
-                          "11.000000", "core (body)"}});
+  expect_diagnostics(j, {{"/bodies/0/max/1", "body outside the grid", "a box within the grid [0, 10.5]",
+                          "11", "core (body)"}});
 }
 
 TEST(SceneValidation, BodyBelowTheGridOrigin) {
   json j = base_scene();
   j["bodies"][0]["min"] = {-0.5, 0.0};
-  expect_diagnostics(j, {{"/bodies/0/min/0", "body outside the grid", "a box within the grid [0.000000, 0.250000]",
-                          "-0.500000", "core (body)"}});
+  expect_diagnostics(j, {{"/bodies/0/min/0", "body outside the grid", "a box within the grid [0, 0.25]",
+                          "-0.5", "core (body)"}});
 }
 
 TEST(SceneValidation, UnknownTopLevelKey) {
@@ -470,6 +470,67 @@ TEST(SceneValidation, BoundaryConditionBoxChecks) {
       {"/boundary_conditions/1/box_max", "empty box", "box_max >= box_min in every component",
        "box_max[1] < box_min[1]", "bc/velocity"},
   });
+}
+
+}  // namespace
+
+// Findings of the first code review, kept as regression tests.
+namespace {
+
+TEST(SceneValidation, MaterialsKeepTheFileOrder) {
+  // "soil" comes before "clay" in the file: material_id follows the file.
+  std::string text = base_scene().dump();
+  const std::string soil = "\"soil\":";
+  text.replace(text.find(soil), soil.size(),
+               "\"soil2\": {\"type\": \"phase/linear_elastic\", \"density\": 1.0, \"youngs_modulus\": 1.0}, \"clay\": "
+               "{\"type\": \"phase/linear_elastic\", \"density\": 1.0, \"youngs_modulus\": 1.0}, " + soil);
+  const suffuse::Scene s = parse_text(text);
+  ASSERT_EQ(s.materials.size(), 3u);
+  EXPECT_EQ(s.materials[0].name, "soil2");
+  EXPECT_EQ(s.materials[1].name, "clay");
+  EXPECT_EQ(s.materials[2].name, "soil");
+  EXPECT_EQ(s.bodies[0].material, 2u);
+}
+
+TEST(SceneValidation, GridTooLargeIsRejected) {
+  json j = base_scene();
+  j["dimension"] = 3;
+  j["gravity"] = {0.0, 0.0, -9.81};
+  j["grid"] = {{"cell_size", {1.0, 1.0, 1.0}}, {"cells", {4194303, 4194303, 4194303}}};
+  j["bodies"][0]["min"] = {0.0, 0.0, 0.0};
+  j["bodies"][0]["max"] = {1.0, 1.0, 1.0};
+  j["boundary_conditions"] = json::array();
+  const auto diags = diagnostics_of(j);
+  ASSERT_EQ(diags.size(), 1u) << describe(diags);
+  expect_diagnostic(diags[0], {"/grid/cells", "grid too large", "at most 2147483647 nodes", "7.37869762948e+19 nodes",
+                               "core (grid)"});
+}
+
+TEST(SceneValidation, HugeCellCountIsOneError) {
+  json j = base_scene();
+  j["grid"]["cells"] = {1e10, 1};
+  const auto diags = diagnostics_of(j);
+  ASSERT_EQ(diags.size(), 1u) << describe(diags);  // no follow-up "outside the grid"
+  expect_diagnostic(diags[0], {"/grid/cells/0", "value too large", "integer <= 100000000", "10000000000.0",
+                               "core (grid)"});
+}
+
+TEST(SceneValidation, BodyFlushWithTheGridEndDespiteRoundOff) {
+  json j = base_scene();
+  j["grid"] = {{"cell_size", {0.29, 0.29}}, {"cells", {100, 100}}};  // 0.29 * 100 = 28.999999999999996
+  j["bodies"][0]["max"] = {29.0, 29.0};
+  EXPECT_NO_THROW(parse_text(j.dump()));
+}
+
+TEST(SceneValidation, MissingPluginPathIsADiagnostic) {
+  json j = base_scene();
+  j["plugin_paths"] = {"no/such/dir"};
+  j["time"]["end"] = -1.0;
+  const auto diags = diagnostics_of(j);
+  ASSERT_EQ(diags.size(), 2u) << describe(diags);
+  expect_diagnostic(diags[0], {"/plugin_paths/0", "no such file or directory", "a plugin library or a directory of them",
+                               std::string(SUFFUSE_SOURCE_DIR) + "/no/such/dir", "core (scene)"});
+  EXPECT_EQ(diags[1].pointer, "/time/end");
 }
 
 }  // namespace

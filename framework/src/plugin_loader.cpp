@@ -54,27 +54,28 @@ void PluginLoader::load_library(const fs::path& file) {
                 " build: build the plugin with the same CMAKE_BUILD_TYPE (suffuse_add_plugin does)");
   if (entry->register_plugins == nullptr) throw Error(canonical.string() + ": no registration function");
 
-  const std::size_t before = registry_.all().size();
-  std::vector<std::string> names_before;
-  for (const auto& [name, info] : registry_.all()) names_before.push_back(name);
-  registry_.set_current_library(canonical.string());
-  try {
-    entry->register_plugins(registry_);
-  } catch (...) {
-    registry_.set_current_library("");
-    throw;
-  }
-  registry_.set_current_library("");
-  if (registry_.all().size() == before)
+  // Register into a staging table first, so that a library that throws or
+  // clashes half-way leaves the registry as it was.
+  Registry staging;
+  staging.set_current_library(canonical.string());
+  entry->register_plugins(staging);
+  if (staging.all().empty())
     throw Error(canonical.string() + " is a suffuse plugin library but registered no plugin");
+  for (const auto& [name, info] : staging.all()) {
+    if (const PluginInfo* existing = registry_.find(name))
+      throw Error("plugin '" + name + "' is registered twice: by " + existing->library + " and by " +
+                  canonical.string());
+  }
+  registry_.set_current_library(canonical.string());
+  for (const auto& [name, info] : staging.all()) registry_.add_info(info);
+  registry_.set_current_library("");
 
   LoadedLibrary record;
   record.path = canonical;
   record.framework_version = entry->framework_version ? entry->framework_version : "";
   record.abi_major = entry->abi_major;
   record.abi_minor = entry->abi_minor;
-  for (const auto& [name, info] : registry_.all())
-    if (!std::binary_search(names_before.begin(), names_before.end(), name)) record.plugins.push_back(name);
+  for (const auto& [name, info] : staging.all()) record.plugins.push_back(name);
   libraries_.push_back(std::move(record));
   loaded_.insert(canonical);
   handles_.push_back(std::move(library));

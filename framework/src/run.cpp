@@ -20,7 +20,9 @@ RunSummary Simulation::run(const RunOptions& options) {
   if (!writers_.empty()) std::filesystem::create_directories(options.output_dir);
   for (std::size_t w = 0; w < writers_.size(); ++w) {
     interval[w] = scene_.outputs[w].interval.value_or(end / 20);
-    writers_[w]->open(options.output_dir, scene_.name);
+    // One output keeps the scene's name; several get a suffix each.
+    writers_[w]->open(options.output_dir,
+                      writers_.size() == 1 ? scene_.name : scene_.name + "_" + std::to_string(w));
   }
   auto write = [&](std::size_t w) {
     const auto t0 = Clock::now();
@@ -33,18 +35,23 @@ RunSummary Simulation::run(const RunOptions& options) {
   }
 
   const double dt_nominal = dt_;
+  const double t0 = time_;
   const std::size_t first_step = step_;
-  // Relative tolerance so that round-off in the accumulated time does not
-  // produce a spurious tiny last step.
+  // Time is t0 + k dt, not a running sum, so round-off neither adds a tiny
+  // last step nor delays frames; eps absorbs the last bits.
   const double eps = 1e-9 * dt_nominal;
+  std::size_t k = 0;
   while (time_ < end - eps) {
     dt_ = std::min(dt_nominal, end - time_);
     step();
+    ++k;
+    time_ = std::min(end, t0 + static_cast<double>(k) * dt_nominal);
     if (time_ >= end - eps) time_ = end;
     for (std::size_t w = 0; w < writers_.size(); ++w) {
       if (time_ >= next[w] - eps || time_ >= end) {
         write(w);
-        while (next[w] <= time_ + eps) next[w] += interval[w];
+        // The next multiple of the interval after now (one frame per step at most).
+        next[w] = (std::floor((time_ + eps) / interval[w]) + 1) * interval[w];
       }
     }
     if (options.on_step) {

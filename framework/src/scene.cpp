@@ -2,6 +2,7 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <iomanip>
 #include <sstream>
 
 #include "validation.hpp"
@@ -9,7 +10,7 @@
 namespace suffuse {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
+using json = detail::Json;
 using detail::pointer_append;
 using detail::show;
 
@@ -79,6 +80,13 @@ std::array<double, 3> to_array(const std::vector<double>& v) {
   return a;
 }
 
+// Numbers in messages: as short as possible, as precise as needed.
+std::string format(double v) {
+  std::ostringstream s;
+  s << std::setprecision(12) << v;
+  return s.str();
+}
+
 std::string list(const std::vector<std::string>& names) {
   std::string s = "{";
   for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
@@ -89,7 +97,8 @@ class SceneReader {
  public:
   SceneReader(const json& root, Registry& registry) : root_(root), registry_(registry), sections_(core_sections()) {}
 
-  Scene read(const std::string& name) {
+  Scene read(const std::string& name, std::vector<Diagnostic> earlier) {
+    diags_ = std::move(earlier);
     Scene scene;
     if (!root_.is_object()) {
       error("", "wrong type", "a JSON object", show(root_), "core");
@@ -186,7 +195,13 @@ class SceneReader {
     const std::size_t before = diags_.size();
     result.params = detail::validate_object(node, info->schema(), ptr, result.type, dim_, diags_, reserved);
     if (info->check && diags_.size() == before && dim_ != 0) {
-      for (const ParameterIssue& issue : info->check(result.params, dim_))
+      std::vector<ParameterIssue> issues;
+      try {
+        issues = info->check(result.params, dim_);
+      } catch (const std::exception& e) {
+        issues.push_back({"", std::string("the plugin's check failed: ") + e.what(), "", ""});
+      }
+      for (const ParameterIssue& issue : issues)
         error(issue.key.empty() ? ptr : pointer_append(ptr, issue.key), issue.problem, issue.expected, issue.found,
               result.type);
     }
@@ -195,19 +210,36 @@ class SceneReader {
 
   void read_grid(Scene& scene) {
     if (!require("grid")) return;
+    const std::size_t before = diags_.size();
     Parameters g = detail::validate_object(root_["grid"], section(sections_, "grid"), "/grid", "core (grid)",
                                            dim_, diags_);
+    grid_ok_ = diags_.size() == before && dim_ != 0;
     if (g.has("origin")) scene.grid_origin = to_array(g.vector("origin"));
     if (g.has("cell_size")) scene.grid_cell_size = to_array(g.vector("cell_size"));
     if (g.has("cells")) {
       const auto& c = g.vector("cells");
+      double nodes = 1;
+      bool cells_ok = true;
       for (std::size_t a = 0; a < c.size() && a < 3; ++a) {
-        if (c[a] != std::floor(c[a]) || c[a] > 1e8) {
-          error("/grid/cells/" + std::to_string(a), "not an integer", "integer >= 1", show(root_["grid"]["cells"][a]),
-                "core (grid)");
+        const std::string ptr = "/grid/cells/" + std::to_string(a);
+        if (c[a] != std::floor(c[a])) {
+          error(ptr, "not an integer", "integer >= 1", show(root_["grid"]["cells"][a]), "core (grid)");
+          cells_ok = false;
+        } else if (c[a] > max_cells_per_axis) {
+          error(ptr, "value too large", "integer <= " + format(max_cells_per_axis),
+                show(root_["grid"]["cells"][a]), "core (grid)");
+          cells_ok = false;
+        } else {
+          scene.grid_cells[a] = static_cast<int>(c[a]);
+          nodes *= c[a] + 1;
         }
-        scene.grid_cells[a] = static_cast<int>(c[a]);
       }
+      if (cells_ok && nodes > max_nodes) {
+        error("/grid/cells", "grid too large", "at most " + format(max_nodes) + " nodes", format(nodes) + " nodes",
+              "core (grid)");
+        cells_ok = false;
+      }
+      grid_ok_ = grid_ok_ && cells_ok;
     }
   }
 
@@ -266,14 +298,17 @@ class SceneReader {
         body.max = to_array(b.vector("max"));
         for (int a = 0; a < dim_; ++a) {
           if (!(body.min[a] < body.max[a]))
-            error(ptr + "/max/" + std::to_string(a), "empty box", "a value above min[" + std::to_string(a) + "] = " +
-                  std::to_string(body.min[a]), std::to_string(body.max[a]), "core (body)");
+            error(ptr + "/max/" + std::to_string(a), "empty box",
+                  "a value above min[" + std::to_string(a) + "] = " + format(body.min[a]), format(body.max[a]),
+                  "core (body)");
+          if (!grid_ok_) continue;
           const double lo = scene.grid_origin[a];
           const double hi = lo + scene.grid_cell_size[a] * scene.grid_cells[a];
-          if (body.min[a] < lo || body.max[a] > hi)
-            error(ptr + (body.min[a] < lo ? "/min/" : "/max/") + std::to_string(a), "body outside the grid",
-                  "a box within the grid [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
-                  std::to_string(body.min[a] < lo ? body.min[a] : body.max[a]), "core (body)");
+          const double tol = 1e-9 * scene.grid_cell_size[a];  // round-off in origin + h * cells
+          if (body.min[a] < lo - tol || body.max[a] > hi + tol)
+            error(ptr + (body.min[a] < lo - tol ? "/min/" : "/max/") + std::to_string(a), "body outside the grid",
+                  "a box within the grid [" + format(lo) + ", " + format(hi) + "]",
+                  format(body.min[a] < lo - tol ? body.min[a] : body.max[a]), "core (body)");
         }
       }
       scene.bodies.push_back(body);
@@ -311,6 +346,9 @@ class SceneReader {
   std::vector<CoreSection> sections_;
   std::vector<Diagnostic> diags_;
   int dim_ = 0;
+  bool grid_ok_ = false;  // the grid is valid, so bodies can be checked against it
+  static constexpr double max_cells_per_axis = 1e8;
+  static constexpr double max_nodes = 2147483647.0;  // node ids stay within 31 bits
 };
 
 }  // namespace
@@ -324,17 +362,25 @@ Scene parse_scene(const std::string& text, const std::string& name, const fs::pa
     throw SceneError(name, {{"", "not valid JSON", "a JSON object", e.what(), "core"}});
   }
   // Plugins first: their schemas are needed to validate the rest.
+  std::vector<Diagnostic> path_errors;
   if (root.is_object() && root.contains("plugin_paths") && root["plugin_paths"].is_array()) {
-    for (const auto& p : root["plugin_paths"]) {
-      if (!p.is_string()) continue;  // reported by validation
-      fs::path path = p.get<std::string>();
+    const json& paths = root["plugin_paths"];
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+      if (!paths[i].is_string()) continue;  // reported by validation
+      fs::path path = paths[i].get<std::string>();
       if (path.is_relative()) path = base_dir / path;
-      loader.load_path(path);
+      std::error_code ec;
+      if (!fs::exists(path, ec)) {
+        path_errors.push_back({"/plugin_paths/" + std::to_string(i), "no such file or directory",
+                               "a plugin library or a directory of them", path.string(), "core (scene)"});
+        continue;
+      }
+      loader.load_path(path);  // a library that exists but fails to load is fatal
     }
   }
   for (const auto& path : PluginLoader::default_search_path()) loader.load_path(path);
 
-  Scene scene = SceneReader(root, registry).read(name);
+  Scene scene = SceneReader(root, registry).read(name, std::move(path_errors));
   scene.name = fs::path(name).stem().string();
   return scene;
 }

@@ -4,7 +4,7 @@
 
 namespace suffuse::detail {
 
-using nlohmann::json;
+using json = Json;
 
 std::string pointer_append(const std::string& pointer, const std::string& key) {
   std::string escaped;
