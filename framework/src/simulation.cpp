@@ -178,6 +178,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   // arrays, summed in thread order afterwards: no atomics, and the same
   // numbers for the same thread count.
   scatter_.assign(threads_ - 1, std::vector<double>(grid_.node_count() * (1 + 2 * dim)));
+  chunk_errors_.resize(threads_);
   create_points();
   dt_ = scene.dt ? *scene.dt : critical_time_step();
 }
@@ -192,7 +193,8 @@ void Simulation::for_chunks(std::size_t n, Body&& body) {
   }
   // One contiguous chunk per thread; an exception in any chunk is rethrown
   // here, after every thread has finished.
-  std::vector<std::exception_ptr> errors(threads_);
+  std::vector<std::exception_ptr>& errors = chunk_errors_;
+  std::fill(errors.begin(), errors.end(), nullptr);
 #pragma omp parallel for num_threads(threads_) schedule(static, 1)
   for (int t = 0; t < threads_; ++t) {
     try {

@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -98,6 +99,7 @@ class Simulation {
 
   int threads_ = 1;
   std::vector<std::vector<double>> scatter_;  // per extra thread: mass, momentum, force
+  std::vector<std::exception_ptr> chunk_errors_;  // per thread, for for_chunks
 
   Scene scene_;
   GridGeometry grid_;
