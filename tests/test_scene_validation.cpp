@@ -160,7 +160,7 @@ TEST(SceneValidation, UnknownKeyInPluginNode) {
   json j = base_scene();
   j["materials"]["soil"]["youngs"] = 1.0e7;
   expect_diagnostics(j, {{"/materials/soil/youngs", "unknown key",
-                          "one of {density, youngs_modulus, poisson_ratio, type}", "\"youngs\"",
+                          "one of {density, youngs_modulus, poisson_ratio, permeability, type}", "\"youngs\"",
                           "phase/linear_elastic"}});
 }
 
@@ -169,7 +169,7 @@ TEST(SceneValidation, MisspelledRequiredKeyGivesUnknownAndMissing) {
   j["materials"]["soil"].erase("youngs_modulus");
   j["materials"]["soil"]["youngs"] = 1.0e7;
   expect_diagnostics(j, {{"/materials/soil/youngs", "unknown key",
-                          "one of {density, youngs_modulus, poisson_ratio, type}", "\"youngs\"",
+                          "one of {density, youngs_modulus, poisson_ratio, permeability, type}", "\"youngs\"",
                           "phase/linear_elastic"},
                          {"/materials/soil/youngs_modulus", "missing required parameter", "number > 0 [Pa]",
                           "nothing", "phase/linear_elastic"}});
@@ -218,9 +218,10 @@ TEST(SceneValidation, UnknownPluginTypeListsValidPluginsOfThatKind) {
 
 TEST(SceneValidation, UnknownBoundaryConditionPlugin) {
   json j = base_scene();
-  j["boundary_conditions"][2]["type"] = "bc/traction";
+  j["boundary_conditions"][2]["type"] = "bc/pressure_head";
   expect_diagnostics(j, {{"/boundary_conditions/2/type", "unknown plugin",
-                          "a boundary condition plugin, one of {bc/velocity}", "\"bc/traction\"", "core"}});
+                          "a boundary condition plugin, one of {bc/traction, bc/velocity}", "\"bc/pressure_head\"",
+                          "core"}});
 }
 
 TEST(SceneValidation, WriterUsedAsMaterial) {
@@ -305,7 +306,7 @@ TEST(SceneValidation, UnknownTopLevelKey) {
   j["gravty"] = {0.0, -9.81};
   expect_diagnostics(j, {{"/gravty", "unknown key",
                           "one of {description, dimension, plugin_paths, gravity, damping, bodies, "
-                          "boundary_conditions, grid, materials, outputs, shape_function, time}",
+                          "boundary_conditions, grid, liquids, materials, outputs, shape_function, time}",
                           "\"gravty\"", "core (scene)"}});
 }
 
@@ -346,7 +347,7 @@ TEST(SceneValidation, PointerEscapesSlashAndTildeInKeys) {
   j["bodies"][0]["material"] = "a/b";
   expect_diagnostics(j, {{"/materials/a~1b/youngs_modulus", "value out of range", "number > 0 [Pa]", "-5",
                           "phase/linear_elastic"},
-                         {"/materials/c~0d/nu", "unknown key", "one of {density, youngs_modulus, poisson_ratio, type}",
+                         {"/materials/c~0d/nu", "unknown key", "one of {density, youngs_modulus, poisson_ratio, permeability, type}",
                           "\"nu\"", "phase/linear_elastic"}});
 }
 

@@ -51,7 +51,13 @@ bool GridGeometry::contains(const double* x) const {
   return true;
 }
 
-void NodeState::resize(std::size_t nodes, int dim) {
+void NodeState::resize(std::size_t nodes, int dim, bool with_liquid) {
+  const std::size_t nl = with_liquid ? nodes : 0;
+  liquid_mass.assign(nl, 0.0);
+  liquid_momentum.assign(nl * dim, 0.0);
+  liquid_force.assign(nl * dim, 0.0);
+  liquid_velocity.assign(nl * dim, 0.0);
+  liquid_acceleration.assign(nl * dim, 0.0);
   mass.assign(nodes, 0.0);
   momentum.assign(nodes * dim, 0.0);
   force.assign(nodes * dim, 0.0);

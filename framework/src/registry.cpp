@@ -10,6 +10,8 @@ std::string to_string(PluginKind kind) {
     case PluginKind::ErosionLaw: return "erosion law";
     case PluginKind::BoundaryCondition: return "boundary condition";
     case PluginKind::Writer: return "writer";
+    case PluginKind::Liquid: return "liquid";
+    case PluginKind::PermeabilityLaw: return "permeability law";
   }
   return "?";
 }

@@ -28,7 +28,7 @@ std::vector<CoreSection> core_sections() {
     s.number("damping").at_least(0).below(1).with_unit("-").fallback(0.0).doc(
         "Local non-viscous damping coefficient for quasi-static problems (0: none)");
     sections.push_back({"scene", "Top level of a scene file; also holds the sections grid, time, "
-                        "shape_function, materials, bodies, boundary_conditions and outputs", s});
+                        "shape_function, materials, liquids, bodies, boundary_conditions and outputs", s});
   }
   {
     ParameterSchema s;
@@ -55,6 +55,11 @@ std::vector<CoreSection> core_sections() {
     s.integer("points_per_cell").with_unit("-").at_least(1).at_most(8).fallback(2LL).doc(
         "Material points per cell along each axis");
     s.vector("velocity").with_unit("m/s").fallback(std::vector<double>{}).doc("Initial velocity (default 0)");
+    s.string("liquid").may_be_absent().doc(
+        "Name of a liquid under /liquids that saturates the body (two-phase); its material's density is then "
+        "the density of the solid grains");
+    s.number("porosity").with_unit("-").above(0).below(1).may_be_absent().doc(
+        "Initial porosity n of a saturated body (required with liquid)");
     sections.push_back({"body", "A box of material points of one material (an entry of /bodies)", s});
   }
   {
@@ -104,7 +109,7 @@ class SceneReader {
       error("", "wrong type", "a JSON object", show(root_), "core");
       throw SceneError(name, diags_);
     }
-    const std::set<std::string> structured = {"grid", "time", "shape_function", "materials",
+    const std::set<std::string> structured = {"grid", "time", "shape_function", "materials", "liquids",
                                               "bodies", "boundary_conditions", "outputs"};
     Parameters top = detail::validate_object(root_, section(sections_, "scene"), "", "core (scene)", 0,
                                              diags_, structured);
@@ -124,6 +129,7 @@ class SceneReader {
     if (require("shape_function"))
       scene.shape_function = plugin_node(root_["shape_function"], "/shape_function", PluginKind::ShapeFunction, {});
     read_materials(scene);
+    read_liquids(scene);
     read_bodies(scene);
     if (root_.contains("boundary_conditions")) {
       const json& bcs = root_["boundary_conditions"];
@@ -262,9 +268,23 @@ class SceneReader {
     for (const auto& [name, node] : materials.items()) {
       MaterialSpec m;
       m.name = name;
-      m.phase = plugin_node(node, pointer_append("/materials", name), PluginKind::Phase, {});
+      const std::string ptr = pointer_append("/materials", name);
+      m.phase = plugin_node(node, ptr, PluginKind::Phase, {"permeability"});
+      if (node.is_object() && node.contains("permeability"))
+        m.permeability = plugin_node(node["permeability"], ptr + "/permeability", PluginKind::PermeabilityLaw, {});
       scene.materials.push_back(std::move(m));
     }
+  }
+
+  void read_liquids(Scene& scene) {
+    if (!root_.contains("liquids")) return;
+    const json& liquids = root_["liquids"];
+    if (!liquids.is_object()) {
+      error("/liquids", "wrong type", "an object naming liquids", show(liquids), "core (scene)");
+      return;
+    }
+    for (const auto& [name, node] : liquids.items())
+      scene.liquids.push_back({name, plugin_node(node, pointer_append("/liquids", name), PluginKind::Liquid, {})});
   }
 
   void read_bodies(Scene& scene) {
@@ -293,6 +313,30 @@ class SceneReader {
           error(ptr + "/material", "undefined material", "one of " + list(material_names), "\"" + mat + "\"",
                 "core (body)");
       }
+      if (b.has("liquid")) {
+        const std::string& liquid = b.string("liquid");
+        std::vector<std::string> names;
+        for (std::size_t l = 0; l < scene.liquids.size(); ++l) {
+          names.push_back(scene.liquids[l].name);
+          if (scene.liquids[l].name == liquid) body.liquid = l;
+        }
+        if (!body.liquid)
+          error(ptr + "/liquid", "undefined liquid", "one of " + list(names), "\"" + liquid + "\"", "core (body)");
+        if (!b.has("porosity") && bodies[i].is_object() && !bodies[i].contains("porosity"))
+          error(ptr + "/porosity", "missing porosity of a saturated body", "number in (0, 1) [-]", "nothing",
+                "core (body)");
+        if (b.has("material") && body.material < scene.materials.size() &&
+            !scene.materials[body.material].permeability &&
+            root_["materials"].contains(scene.materials[body.material].name))
+          error(pointer_append("/materials", scene.materials[body.material].name) + "/permeability",
+                "missing permeability of a material in a saturated body",
+                "a permeability law plugin node, e.g. {\"type\": \"permeability/constant\", ...}", "nothing",
+                "core (material)");
+      } else if (b.has("porosity")) {
+        error(ptr + "/porosity", "porosity of a dry body", "no porosity without \"liquid\"",
+              format(b.number("porosity")), "core (body)");
+      }
+      if (b.has("porosity")) body.porosity = b.number("porosity");
       if (b.has("min") && b.has("max")) {
         body.min = to_array(b.vector("min"));
         body.max = to_array(b.vector("max"));
@@ -312,6 +356,12 @@ class SceneReader {
         }
       }
       scene.bodies.push_back(body);
+    }
+    // The saturated step treats every point as saturated (issue 3 scope).
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+      if (scene.saturated() && !scene.bodies[i].liquid && bodies[i].is_object())
+        error("/bodies/" + std::to_string(i) + "/liquid", "dry body in a saturated scene",
+              "every body saturated, or none (mixing is not supported yet)", "nothing", "core (body)");
     }
   }
 

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <sstream>
 
 #include "suffuse/error.hpp"
+#include "two_phase_kernels.hpp"
 
 namespace suffuse {
 
@@ -166,18 +168,31 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   for (const MaterialSpec& m : scene.materials) {
     phases_.push_back(registry.create<Phase>(m.phase.type, {m.phase.params, dim, m.phase.pointer}));
     phases_.back()->add_fields(points_);
+    permeability_.push_back(m.permeability ? registry.create<PermeabilityLaw>(
+                                                 m.permeability->type,
+                                                 {m.permeability->params, dim, m.permeability->pointer})
+                                           : nullptr);
   }
+  for (const LiquidSpec& l : scene.liquids)
+    liquids_.push_back(registry.create<Liquid>(l.liquid.type, {l.liquid.params, dim, l.liquid.pointer}));
+  saturated_ = scene.saturated();
+  if (saturated_) add_saturated_fields();
   for (const PluginNode& bc : scene.boundary_conditions) {
     bcs_.push_back(registry.create<BoundaryCondition>(bc.type, {bc.params, dim, bc.pointer}));
     bcs_.back()->setup(grid_);
   }
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
-  nodes_.resize(grid_.node_count(), dim);
+  nodes_.resize(grid_.node_count(), dim, saturated_);
+  if (saturated_) {
+    node_liquid_inertia_.assign(grid_.node_count(), 0.0);
+    node_drag_.assign(grid_.node_count(), 0.0);
+  }
   // Threads other than the first scatter into their own copy of the nodal
   // arrays, summed in thread order afterwards: no atomics, and the same
   // numbers for the same thread count.
-  scatter_.assign(threads_ - 1, std::vector<double>(grid_.node_count() * (1 + 2 * dim)));
+  const std::size_t per_node = saturated_ ? 4 + 4 * dim : 1 + 2 * dim;
+  scatter_.assign(threads_ - 1, std::vector<double>(grid_.node_count() * per_node));
   chunk_errors_.resize(threads_);
   create_points();
   dt_ = scene.dt ? *scene.dt : critical_time_step();
@@ -207,12 +222,42 @@ void Simulation::for_chunks(std::size_t n, Body&& body) {
     if (e) std::rethrow_exception(e);
 }
 
+void Simulation::add_saturated_fields() {
+  using K = FieldKind;
+  sf_.porosity = points_.add_field({"porosity", K::Scalar, "-", "porosity n", true});
+  sf_.pressure = points_.add_field({"pore_pressure", K::Scalar, "Pa", "pore pressure p, compression positive", true});
+  sf_.liquid_velocity = points_.add_field({"liquid_velocity", K::Vector, "m/s", "velocity of the pore liquid", true});
+  sf_.conductivity =
+      points_.add_field({"hydraulic_conductivity", K::Scalar, "m/s", "hydraulic conductivity K", true});
+  sf_.darcy_flux = points_.add_field({"darcy_flux", K::Vector, "m/s", "Darcy flux q = n (v_L - v_s)", true});
+  sf_.liquid_density = points_.add_field({"liquid_density", K::Scalar, "kg/m^3", "density of the pore liquid", true});
+  sf_.liquid_mass = points_.add_field({"liquid_mass", K::Scalar, "kg", "n rho_L V (per metre in 2D)", true});
+  sf_.bulk_modulus = points_.add_field({"liquid_bulk_modulus", K::Scalar, "Pa", "K_L of the pore liquid", false});
+}
+
 double Simulation::critical_time_step() const {
-  double c_max = 0;
-  for (const auto& phase : phases_) c_max = std::max(c_max, std::sqrt(phase->p_wave_modulus() / phase->density()));
-  if (!(c_max > 0)) throw Error("cannot choose a time step automatically: no material has a positive wave speed; "
-                                "set /time/dt");
-  return scene_.cfl * grid_.min_cell_size() / c_max;
+  // Dry bodies: h / sqrt(M / rho). Saturated bodies (Mieremet et al. 2016):
+  // the undrained wave h / c_u, c_u = sqrt((M + K_L/n) / rho_sat), and the
+  // explicit-drag limit 2 (1-n) rho_s K / (n g rho_sat).
+  const double h = grid_.min_cell_size();
+  double dt = std::numeric_limits<double>::infinity();
+  for (const BodySpec& body : scene_.bodies) {
+    const Phase& phase = *phases_[body.material];
+    if (!body.liquid) {
+      dt = std::min(dt, h / std::sqrt(phase.p_wave_modulus() / phase.density()));
+      continue;
+    }
+    const Liquid& liquid = *liquids_[*body.liquid];
+    const double n = body.porosity, rho_s = phase.density();
+    const double rho_sat = (1 - n) * rho_s + n * liquid.density();
+    dt = std::min(dt, h / std::sqrt((phase.p_wave_modulus() + liquid.bulk_modulus() / n) / rho_sat));
+    double K = 0;
+    permeability_[body.material]->conductivity(std::span(&n, 1), std::span(&K, 1));
+    dt = std::min(dt, 2 * (1 - n) * rho_s * K / (n * reference_gravity * rho_sat));
+  }
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw Error("cannot choose a time step automatically: no material has a positive wave speed; set /time/dt");
+  return scene_.cfl * dt;
 }
 
 void Simulation::create_points() {
@@ -250,11 +295,22 @@ void Simulation::create_points() {
             size[p * dim + a] = spacing[a];
           }
           V[p] = volume;
-          m[p] = volume * phase.density();
+          m[p] = volume * phase.density() * (body.liquid ? 1 - body.porosity : 1.0);
           id[p] = static_cast<double>(body.material);
         }
     const PointRange range{first, first + total};
-    ranges_.push_back({body.material, range});
+    ranges_.push_back({body.material, range, body.liquid.has_value()});
+    if (body.liquid) {
+      const Liquid& liquid = *liquids_[*body.liquid];
+      for (std::size_t q = range.begin; q < range.end; ++q) {
+        points_.data(sf_.porosity)[q] = body.porosity;
+        points_.data(sf_.liquid_density)[q] = liquid.density();
+        points_.data(sf_.bulk_modulus)[q] = liquid.bulk_modulus();
+        points_.data(sf_.liquid_mass)[q] = body.porosity * liquid.density() * volume;
+        for (int a = 0; a < dim; ++a) points_.data(sf_.liquid_velocity)[q * dim + a] = body.velocity[a];
+      }
+      update_conductivity(ranges_.back());
+    }
     body_names_.push_back(body.name);
     body_ranges_.push_back(range);
     phase.initialise(points_, range);
@@ -295,41 +351,85 @@ void Simulation::compute_shape_functions() {
   });
 }
 
+void Simulation::update_conductivity(const MaterialRange& r) {
+  const PermeabilityLaw& law = *permeability_[r.material];
+  for_chunks(r.range.size(), [&](int, std::size_t b, std::size_t e) {
+    law.conductivity(points_.values(sf_.porosity).subspan(r.range.begin + b, e - b),
+                     points_.values(sf_.conductivity).subspan(r.range.begin + b, e - b));
+  });
+}
+
 void Simulation::reset_grid() {
   StageTimer t(times_.reset);
-  std::fill(nodes_.mass.begin(), nodes_.mass.end(), 0.0);
-  std::fill(nodes_.momentum.begin(), nodes_.momentum.end(), 0.0);
-  std::fill(nodes_.force.begin(), nodes_.force.end(), 0.0);
+  for (auto* v : {&nodes_.mass, &nodes_.momentum, &nodes_.force, &nodes_.liquid_mass, &nodes_.liquid_momentum,
+                  &nodes_.liquid_force, &node_liquid_inertia_, &node_drag_})
+    std::fill(v->begin(), v->end(), 0.0);
+}
+
+template <class Kernel>
+void Simulation::scatter(const ScatterTargets& targets, Kernel&& kernel) {
+  for_chunks(points_.size(), [&](int t, std::size_t b, std::size_t e) {
+    if (t == 0) {
+      kernel(b, e, targets.array.data());
+      return;
+    }
+    std::array<double*, 8> mine{};
+    double* next = scatter_[t - 1].data();
+    for (int k = 0; k < targets.count; ++k) {
+      mine[k] = next;
+      std::fill(next, next + targets.size[k], 0.0);
+      next += targets.size[k];
+    }
+    kernel(b, e, mine.data());
+  });
+  if (scatter_.empty()) return;
+  // Sum the private buffers into the node arrays, in thread order.
+  for (int k = 0; k < targets.count; ++k) {
+    std::size_t offset = 0;
+    for (int j = 0; j < k; ++j) offset += targets.size[j];
+    for_chunks(targets.size[k], [&](int, std::size_t b, std::size_t e) {
+      for (const std::vector<double>& buffer : scatter_)
+        for (std::size_t i = b; i < e; ++i) targets.array[k][i] += buffer[offset + i];
+    });
+  }
 }
 
 void Simulation::points_to_grid() {
   StageTimer t(times_.p2g);
+  if (saturated_) return points_to_grid_saturated();
   const auto& f = points_.core();
   auto kernel = scene_.dim == 2 ? &p2g_kernel<2> : &p2g_kernel<3>;
-  const std::size_t nn = grid_.node_count(), dim = scene_.dim;
-  for_chunks(points_.size(), [&](int t, std::size_t b, std::size_t e) {
-    double* mass = nodes_.mass.data();
-    double* mom = nodes_.momentum.data();
-    double* force = nodes_.force.data();
-    if (t > 0) {
-      std::vector<double>& buffer = scatter_[t - 1];
-      std::fill(buffer.begin(), buffer.end(), 0.0);
-      mass = buffer.data();
-      mom = mass + nn;
-      force = mom + nn * dim;
-    }
+  ScatterTargets targets;
+  targets.add(nodes_.mass);
+  targets.add(nodes_.momentum);
+  targets.add(nodes_.force);
+  scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, npp_, node_ids_.data(), weights_.data(), gradients_.data(), points_.data(f.mass),
-           points_.data(f.volume), points_.data(f.velocity), points_.data(f.stress), scene_.gravity, mass, mom,
-           force);
+           points_.data(f.volume), points_.data(f.velocity), points_.data(f.stress), scene_.gravity, out[0], out[1],
+           out[2]);
   });
-  for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
-    for (const std::vector<double>& buffer : scatter_) {
-      for (std::size_t I = b; I < e; ++I) nodes_.mass[I] += buffer[I];
-      for (std::size_t k = b * dim; k < e * dim; ++k) {
-        nodes_.momentum[k] += buffer[nn + k];
-        nodes_.force[k] += buffer[nn + nn * dim + k];
-      }
-    }
+}
+
+void Simulation::points_to_grid_saturated() {
+  const auto& f = points_.core();
+  auto kernel = scene_.dim == 2 ? &detail::p2g_saturated<2> : &detail::p2g_saturated<3>;
+  const detail::SaturatedPoints pt{points_.data(f.mass),           points_.data(f.volume),
+                                   points_.data(f.velocity),       points_.data(f.stress),
+                                   points_.data(sf_.porosity),     points_.data(sf_.pressure),
+                                   points_.data(sf_.liquid_velocity), points_.data(sf_.liquid_density),
+                                   points_.data(sf_.conductivity)};
+  ScatterTargets targets;
+  targets.add(nodes_.mass);
+  targets.add(nodes_.momentum);
+  targets.add(nodes_.force);
+  targets.add(nodes_.liquid_mass);
+  targets.add(nodes_.liquid_momentum);
+  targets.add(nodes_.liquid_force);
+  targets.add(node_liquid_inertia_);
+  targets.add(node_drag_);
+  scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
+    kernel(b, e, npp_, node_ids_.data(), weights_.data(), gradients_.data(), pt, scene_.gravity.data(),
+           detail::SaturatedNodes{out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7]});
   });
 }
 
@@ -345,15 +445,27 @@ void Simulation::constrain_velocity() {
 void Simulation::update_grid() {
   StageTimer t(times_.grid_update);
   const std::size_t nn = grid_.node_count();
-  auto update = scene_.dim == 2 ? &grid_update_kernel<2> : &grid_update_kernel<3>;
-  for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
-    update(b, e, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
-           nodes_.velocity.data());
-  });
+  if (saturated_) {
+    auto update = scene_.dim == 2 ? &detail::grid_update_saturated<2> : &detail::grid_update_saturated<3>;
+    for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+      update(b, e, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
+             nodes_.liquid_mass.data(), nodes_.liquid_momentum.data(), nodes_.liquid_force.data(),
+             node_liquid_inertia_.data(), node_drag_.data(), nodes_.velocity.data(), nodes_.liquid_velocity.data());
+    });
+  } else {
+    auto update = scene_.dim == 2 ? &grid_update_kernel<2> : &grid_update_kernel<3>;
+    for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+      update(b, e, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
+             nodes_.velocity.data());
+    });
+  }
   constrain_velocity();
   auto acc = scene_.dim == 2 ? &acceleration_kernel<2> : &acceleration_kernel<3>;
   for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
     acc(b, e, dt_, nodes_.mass.data(), nodes_.momentum.data(), nodes_.velocity.data(), nodes_.acceleration.data());
+    if (saturated_)
+      acc(b, e, dt_, nodes_.liquid_mass.data(), nodes_.liquid_momentum.data(), nodes_.liquid_velocity.data(),
+          nodes_.liquid_acceleration.data());
   });
 }
 
@@ -364,6 +476,10 @@ void Simulation::grid_to_points() {
   for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
     kernel(b, e, npp_, dt_, node_ids_.data(), weights_.data(), nodes_.velocity.data(), nodes_.acceleration.data(),
            points_.data(f.position), points_.data(f.displacement), points_.data(f.velocity));
+    if (saturated_)
+      (scene_.dim == 2 ? &detail::g2p_liquid<2> : &detail::g2p_liquid<3>)(
+          b, e, npp_, dt_, node_ids_.data(), weights_.data(), nodes_.liquid_acceleration.data(),
+          points_.data(sf_.liquid_velocity));
   });
 }
 
@@ -372,25 +488,28 @@ void Simulation::remap_momentum() {
   // MUSL: nodal velocities for the strain rate come from the updated point
   // momenta, which damps the small-mass-node noise of plain USL.
   std::fill(nodes_.momentum.begin(), nodes_.momentum.end(), 0.0);
+  std::fill(nodes_.liquid_momentum.begin(), nodes_.liquid_momentum.end(), 0.0);
   const auto& f = points_.core();
   auto kernel = scene_.dim == 2 ? &remap_kernel<2> : &remap_kernel<3>;
-  const std::size_t nn = grid_.node_count(), dim = scene_.dim;
-  for_chunks(points_.size(), [&](int t, std::size_t b, std::size_t e) {
-    double* mom = nodes_.momentum.data();
-    if (t > 0) {
-      std::vector<double>& buffer = scatter_[t - 1];
-      std::fill(buffer.begin(), buffer.begin() + nn * dim, 0.0);
-      mom = buffer.data();
-    }
-    kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.mass), points_.data(f.velocity), mom);
+  ScatterTargets targets;
+  targets.add(nodes_.momentum);
+  if (saturated_) targets.add(nodes_.liquid_momentum);
+  scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
+    kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.mass), points_.data(f.velocity), out[0]);
+    if (saturated_)
+      kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(sf_.liquid_mass),
+             points_.data(sf_.liquid_velocity), out[1]);
   });
-  for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
-    for (const std::vector<double>& buffer : scatter_)
-      for (std::size_t k = b * dim; k < e * dim; ++k) nodes_.momentum[k] += buffer[k];
+  const std::size_t dim = scene_.dim;
+  for_chunks(grid_.node_count(), [&](int, std::size_t b, std::size_t e) {
     for (std::size_t I = b; I < e; ++I) {
       const double m = nodes_.mass[I];
       for (std::size_t i = 0; i < dim; ++i)
         nodes_.velocity[I * dim + i] = m > 0 ? nodes_.momentum[I * dim + i] / m : 0.0;
+      if (!saturated_) continue;
+      const double ml = nodes_.liquid_mass[I];
+      for (std::size_t i = 0; i < dim; ++i)
+        nodes_.liquid_velocity[I * dim + i] = ml > 0 ? nodes_.liquid_momentum[I * dim + i] / ml : 0.0;
     }
   });
   constrain_velocity();
@@ -404,10 +523,22 @@ void Simulation::update_stress() {
     kernel(b, e, npp_, dt_, node_ids_.data(), gradients_.data(), nodes_.velocity.data(),
            points_.data(f.velocity_gradient), points_.data(f.strain), points_.data(f.volume));
   });
+  if (saturated_) {
+    auto porous = scene_.dim == 2 ? &detail::porous_update<2> : &detail::porous_update<3>;
+    for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
+      porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(), nodes_.liquid_velocity.data(),
+             points_.data(f.velocity_gradient), points_.data(sf_.bulk_modulus), points_.data(sf_.liquid_density),
+             points_.data(f.volume), points_.data(f.velocity), points_.data(sf_.liquid_velocity),
+             points_.data(sf_.porosity), points_.data(sf_.pressure), points_.data(sf_.liquid_mass),
+             points_.data(sf_.darcy_flux));
+    });
+  }
   for (const MaterialRange& r : ranges_) {
+    // The phase updates the effective stress in a saturated body.
     for_chunks(r.range.size(), [&](int, std::size_t b, std::size_t e) {
       phases_[r.material]->update_stress(points_, {r.range.begin + b, r.range.begin + e}, dt_);
     });
+    if (r.saturated) update_conductivity(r);
   }
 }
 

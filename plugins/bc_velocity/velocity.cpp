@@ -20,6 +20,9 @@ class VelocityBC final : public suffuse::BoundaryCondition {
     s.number("vx").with_unit("m/s").may_be_absent().doc("Prescribed x velocity (absent: free)");
     s.number("vy").with_unit("m/s").may_be_absent().doc("Prescribed y velocity (absent: free)");
     s.number("vz").with_unit("m/s").may_be_absent().doc("Prescribed z velocity, 3D only (absent: free)");
+    s.choice("phase", {"both", "solid", "liquid"}).fallback(std::string("both")).doc(
+        "In saturated bodies, which phase is constrained: both (an impermeable wall), solid (a drained, "
+        "permeable wall) or liquid");
     return s;
   }
 
@@ -55,6 +58,9 @@ class VelocityBC final : public suffuse::BoundaryCondition {
     const char* names[3] = {"vx", "vy", "vz"};
     for (int c = 0; c < dim_; ++c)
       if (p.has(names[c])) components_.push_back({c, p.number(names[c])});
+    const std::string& phase = p.string("phase");
+    solid_ = phase != "liquid";
+    liquid_ = phase != "solid";
     if (p.has("face")) {
       face_ = p.string("face");
     } else {
@@ -87,9 +93,16 @@ class VelocityBC final : public suffuse::BoundaryCondition {
   }
 
   void constrain_velocity(const suffuse::GridGeometry&, suffuse::NodeState& state, double) const override {
-    double* v = state.velocity.data();
-    for (const auto& [c, value] : components_)
-      for (std::int64_t I : nodes_) v[I * dim_ + c] = value;
+    if (solid_) {
+      double* v = state.velocity.data();
+      for (const auto& [c, value] : components_)
+        for (std::int64_t I : nodes_) v[I * dim_ + c] = value;
+    }
+    if (liquid_ && state.has_liquid()) {
+      double* v = state.liquid_velocity.data();
+      for (const auto& [c, value] : components_)
+        for (std::int64_t I : nodes_) v[I * dim_ + c] = value;
+    }
   }
 
  private:
@@ -103,6 +116,7 @@ class VelocityBC final : public suffuse::BoundaryCondition {
   std::string face_;
   std::vector<double> box_min_, box_max_;
   std::vector<std::int64_t> nodes_;
+  bool solid_ = true, liquid_ = true;
 };
 
 }  // namespace

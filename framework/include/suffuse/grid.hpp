@@ -45,7 +45,15 @@ struct NodeState {
   std::vector<double> velocity;  // [m/s] of the grid update, then of the MUSL remap
   std::vector<double> acceleration;  // [m/s^2] of the grid update, after constraints
 
-  void resize(std::size_t nodes, int dim);
+  // Pore liquid, in saturated runs only (empty otherwise).
+  std::vector<double> liquid_mass;          // sum N n rho_L V [kg]
+  std::vector<double> liquid_momentum;      // [kg m/s]
+  std::vector<double> liquid_force;         // [N] pressure gradient and gravity on the liquid
+  std::vector<double> liquid_velocity;      // [m/s]
+  std::vector<double> liquid_acceleration;  // [m/s^2]
+
+  void resize(std::size_t nodes, int dim, bool with_liquid = false);
+  bool has_liquid() const { return !liquid_mass.empty(); }
 };
 
 }  // namespace suffuse

@@ -24,6 +24,7 @@
 
 #include "suffuse/boundary_condition.hpp"
 #include "suffuse/erosion_law.hpp"
+#include "suffuse/liquid.hpp"
 #include "suffuse/parameters.hpp"
 #include "suffuse/phase.hpp"
 #include "suffuse/shape_function.hpp"
@@ -32,7 +33,7 @@
 
 namespace suffuse {
 
-enum class PluginKind { ShapeFunction, Phase, ErosionLaw, BoundaryCondition, Writer };
+enum class PluginKind { ShapeFunction, Phase, ErosionLaw, BoundaryCondition, Writer, Liquid, PermeabilityLaw };
 std::string to_string(PluginKind kind);
 
 template <class T> struct KindOf;
@@ -41,6 +42,8 @@ template <> struct KindOf<Phase> { static constexpr PluginKind value = PluginKin
 template <> struct KindOf<ErosionLaw> { static constexpr PluginKind value = PluginKind::ErosionLaw; };
 template <> struct KindOf<BoundaryCondition> { static constexpr PluginKind value = PluginKind::BoundaryCondition; };
 template <> struct KindOf<Writer> { static constexpr PluginKind value = PluginKind::Writer; };
+template <> struct KindOf<Liquid> { static constexpr PluginKind value = PluginKind::Liquid; };
+template <> struct KindOf<PermeabilityLaw> { static constexpr PluginKind value = PluginKind::PermeabilityLaw; };
 
 // A problem that involves several parameters of one node, found by a
 // plugin's optional static check(). `key` names the parameter to point at

@@ -24,6 +24,12 @@ struct PluginNode {
 struct MaterialSpec {
   std::string name;
   PluginNode phase;
+  std::optional<PluginNode> permeability;  // required when a saturated body uses it
+};
+
+struct LiquidSpec {
+  std::string name;
+  PluginNode liquid;
 };
 
 struct BodySpec {
@@ -32,6 +38,8 @@ struct BodySpec {
   std::array<double, 3> min{}, max{};
   int points_per_cell = 2;  // per axis
   std::array<double, 3> velocity{};
+  std::optional<std::size_t> liquid;  // index into Scene::liquids: a saturated body
+  double porosity = 0;                // initial, saturated bodies only
 };
 
 struct OutputSpec {
@@ -48,6 +56,7 @@ struct Scene {
   std::array<int, 3> grid_cells{1, 1, 1};
   PluginNode shape_function;
   std::vector<MaterialSpec> materials;
+  std::vector<LiquidSpec> liquids;
   std::vector<BodySpec> bodies;
   std::vector<PluginNode> boundary_conditions;
   std::array<double, 3> gravity{};
@@ -56,6 +65,12 @@ struct Scene {
   std::optional<double> dt;  // absent: automatic from the CFL condition
   double cfl = 0.5;
   std::vector<OutputSpec> outputs;
+
+  bool saturated() const {
+    for (const BodySpec& b : bodies)
+      if (b.liquid) return true;
+    return false;
+  }
 };
 
 // Reads a scene file, loads the plugins it needs (scene paths, then the

@@ -80,7 +80,23 @@ class Simulation {
   struct MaterialRange {
     std::size_t material;
     PointRange range;
+    bool saturated;
   };
+  // Node arrays a scatter adds into, at most 8.
+  struct ScatterTargets {
+    std::array<double*, 8> array{};
+    std::array<std::size_t, 8> size{};
+    int count = 0;
+    void add(std::vector<double>& v) { array[count] = v.data(), size[count++] = v.size(); }
+  };
+  // Runs kernel(begin, end, targets) on chunks of the points; threads other
+  // than the first write into private buffers that are summed afterwards.
+  template <class Kernel>
+  void scatter(const ScatterTargets& targets, Kernel&& kernel);
+  void add_saturated_fields();
+  void points_to_grid_saturated();
+  void update_grid_saturated();
+  void update_conductivity(const MaterialRange& r);
 
   void create_points();
   void check_points_in_grid() const;
@@ -98,7 +114,7 @@ class Simulation {
   void for_chunks(std::size_t n, Body&& body);
 
   int threads_ = 1;
-  std::vector<std::vector<double>> scatter_;  // per extra thread: mass, momentum, force
+  std::vector<std::vector<double>> scatter_;  // per extra thread: private node arrays
   std::vector<std::exception_ptr> chunk_errors_;  // per thread, for for_chunks
 
   Scene scene_;
@@ -109,6 +125,16 @@ class Simulation {
   std::vector<std::unique_ptr<Phase>> phases_;
   std::vector<std::unique_ptr<BoundaryCondition>> bcs_;
   std::vector<std::unique_ptr<Writer>> writers_;
+  std::vector<std::unique_ptr<Liquid>> liquids_;
+  std::vector<std::unique_ptr<PermeabilityLaw>> permeability_;  // per material, may be null
+
+  // Saturated runs only.
+  bool saturated_ = false;  // some body has a pore liquid
+  struct SaturatedFields {
+    FieldId porosity, pressure, liquid_velocity, conductivity, darcy_flux, liquid_density, liquid_mass,
+        bulk_modulus;
+  } sf_{};
+  std::vector<double> node_liquid_inertia_, node_drag_;
   std::vector<MaterialRange> ranges_;
   std::vector<std::string> body_names_;
   std::vector<PointRange> body_ranges_;

@@ -1,0 +1,28 @@
+#pragma once
+// Pore liquids and permeability laws, for saturated (two-phase) bodies.
+#include <span>
+
+namespace suffuse {
+
+// The liquid that fills the pores of a saturated body.
+class Liquid {
+ public:
+  virtual ~Liquid() = default;
+  virtual double density() const = 0;        // rho_L [kg/m^3]
+  virtual double bulk_modulus() const = 0;   // K_L [Pa]
+  virtual double viscosity() const = 0;      // mu [Pa s]
+};
+
+// Standard gravity used in the definition of hydraulic conductivity,
+// K = k rho_L g_ref / mu, whatever the scene's gravity.
+inline constexpr double reference_gravity = 9.81;
+
+// Hydraulic conductivity of a soil skeleton as a function of its porosity.
+class PermeabilityLaw {
+ public:
+  virtual ~PermeabilityLaw() = default;
+  // K [m/s] for each porosity n [-] of a batch (spans of equal length).
+  virtual void conductivity(std::span<const double> porosity, std::span<double> conductivity) const = 0;
+};
+
+}  // namespace suffuse

@@ -1,0 +1,137 @@
+#pragma once
+// Kernels of the saturated (two-phase, single-point) MPM step, one loop each.
+// Formulation: Jassim, Stolle & Vermeer (2013); see docs/two-phase.md.
+//   liquid:  rho_L a_L = -grad p - (n rho_L g_ref / K)(v_L - v_s) + rho_L b
+//   mixture: (1-n) rho_s a_s + n rho_L a_L = div(sigma' - p I) + rho_sat b
+//   pressure: dp/dt = -(K_L / n) [(1-n) div v_s + n div v_L]
+#include <cstddef>
+#include <cstdint>
+
+#include "suffuse/liquid.hpp"
+
+namespace suffuse::detail {
+
+constexpr int voigt_index(int i, int j) {
+  if (i == j) return i;
+  const int s = i + j;
+  return s == 3 ? 3 : (s == 2 ? 4 : 5);
+}
+
+// Nodal targets of the saturated points-to-grid scatter.
+struct SaturatedNodes {
+  double* solid_mass;       // sum N (1-n) rho_s V
+  double* solid_momentum;   // D per node
+  double* force;            // D per node, mixture
+  double* liquid_mass;      // sum N n rho_L V
+  double* liquid_momentum;  // D per node
+  double* liquid_force;     // D per node
+  double* liquid_inertia;   // sum N rho_L V
+  double* drag;             // sum N n rho_L g_ref V / K
+};
+
+struct SaturatedPoints {
+  const double *mass, *volume, *velocity, *stress, *porosity, *pressure, *liquid_velocity, *liquid_density,
+      *conductivity;
+};
+
+template <int D>
+void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+                   const double* dw, const SaturatedPoints& pt, const double* g, const SaturatedNodes& out) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const double ms = pt.mass[p], V = pt.volume[p], n = pt.porosity[p], pr = pt.pressure[p];
+    const double rho_l = pt.liquid_density[p];
+    const double ml = n * rho_l * V;
+    const double drag = n * rho_l * reference_gravity * V / pt.conductivity[p];
+    const double* vs = pt.velocity + p * D;
+    const double* vl = pt.liquid_velocity + p * D;
+    const double* s = pt.stress + p * 6;
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      const double N = w[k];
+      const double* grad = dw + k * D;
+      out.solid_mass[I] += N * ms;
+      out.liquid_mass[I] += N * ml;
+      out.liquid_inertia[I] += N * rho_l * V;
+      out.drag[I] += N * drag;
+      for (int i = 0; i < D; ++i) {
+        out.solid_momentum[I * D + i] += N * ms * vs[i];
+        out.liquid_momentum[I * D + i] += N * ml * vl[i];
+        double f = N * (ms + ml) * g[i] + V * pr * grad[i];  // total stress = sigma' - p I
+        for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
+        out.force[I * D + i] += f;
+        out.liquid_force[I * D + i] += N * rho_l * V * g[i] + V * pr * grad[i];
+      }
+    }
+  }
+}
+
+// Liquid acceleration from its own forces and the drag, then the solid's from
+// the mixture balance. Writes the new (unconstrained) velocities.
+template <int D>
+void grid_update_saturated(std::size_t begin, std::size_t end, double dt, double damping, const double* ms,
+                           const double* ps, const double* f, const double* ml, const double* pl, const double* fl,
+                           const double* inertia, const double* drag, double* vs, double* vl) {
+  for (std::size_t I = begin; I < end; ++I) {
+    if (ms[I] <= 0) {
+      for (int i = 0; i < D; ++i) vs[I * D + i] = vl[I * D + i] = 0;
+      continue;
+    }
+    for (int i = 0; i < D; ++i) {
+      const double vs_old = ps[I * D + i] / ms[I];
+      const double vl_old = ml[I] > 0 ? pl[I * D + i] / ml[I] : vs_old;
+      const double al = inertia[I] > 0 ? (fl[I * D + i] - drag[I] * (vl_old - vs_old)) / inertia[I] : 0.0;
+      double fs = f[I * D + i] - ml[I] * al;
+      if (damping > 0 && vs_old != 0) fs -= damping * std::abs(fs) * (vs_old > 0 ? 1.0 : -1.0);
+      vs[I * D + i] = vs_old + fs / ms[I] * dt;
+      vl[I * D + i] = vl_old + al * dt;
+    }
+  }
+}
+
+template <int D>
+void g2p_liquid(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* w,
+                const double* node_acc, double* vl) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double dv[D] = {};
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      for (int i = 0; i < D; ++i) dv[i] += w[k] * node_acc[ids[k] * D + i];
+    }
+    for (int i = 0; i < D; ++i) vl[p * D + i] += dt * dv[i];
+  }
+}
+
+// After the skeleton's velocity gradient L (field) and volume are updated:
+// pore pressure, porosity, liquid mass and Darcy flux.
+template <int D>
+void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
+                   const double* node_vl, const double* L, const double* bulk, const double* rho_l,
+                   const double* volume, const double* vs, const double* vl, double* n, double* pressure,
+                   double* liquid_mass, double* darcy) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double div_l = 0;
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      for (int i = 0; i < D; ++i) div_l += node_vl[ids[k] * D + i] * dw[k * D + i];
+    }
+    const double* l = L + p * D * D;
+    double div_s = 0;
+    for (int i = 0; i < D; ++i) div_s += l[i * D + i];
+    double J;
+    if constexpr (D == 2) {
+      J = (1 + l[0] * dt) * (1 + l[3] * dt) - l[1] * l[2] * dt * dt;
+    } else {
+      const double a = 1 + l[0] * dt, b = l[1] * dt, c = l[2] * dt, d = l[3] * dt, e = 1 + l[4] * dt;
+      const double f = l[5] * dt, g = l[6] * dt, h = l[7] * dt, i = 1 + l[8] * dt;
+      J = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+    }
+    const double n0 = n[p];
+    pressure[p] -= bulk[p] / n0 * ((1 - n0) * div_s + n0 * div_l) * dt;
+    n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
+    liquid_mass[p] = n[p] * rho_l[p] * volume[p];
+    for (int i = 0; i < D; ++i) darcy[p * D + i] = n[p] * (vl[p * D + i] - vs[p * D + i]);
+  }
+}
+
+}  // namespace suffuse::detail
