@@ -60,6 +60,10 @@ std::vector<CoreSection> core_sections() {
         "the density of the solid grains");
     s.number("porosity").with_unit("-").above(0).below(1).may_be_absent().doc(
         "Initial porosity n of a saturated body (required with liquid)");
+    s.vector("stress").of_length(6).with_unit("Pa").fallback(std::vector<double>{}).doc(
+        "Initial uniform (effective) stress xx, yy, zz, yz, xz, xy, tension positive (default zero)");
+    s.number("pore_pressure").with_unit("Pa").fallback(0.0).doc(
+        "Initial uniform pore pressure of a saturated body, compression positive");
     sections.push_back({"body", "A box of material points of one material (an entry of /bodies)", s});
   }
   {
@@ -337,6 +341,16 @@ class SceneReader {
               format(b.number("porosity")), "core (body)");
       }
       if (b.has("porosity")) body.porosity = b.number("porosity");
+      if (b.has("stress")) {
+        const auto& s = b.vector("stress");
+        for (std::size_t c = 0; c < s.size() && c < 6; ++c) body.stress[c] = s[c];
+      }
+      if (b.has("pore_pressure")) {
+        body.pore_pressure = b.number("pore_pressure");
+        if (body.pore_pressure != 0 && !b.has("liquid"))
+          error(ptr + "/pore_pressure", "pore pressure of a dry body", "0 without \"liquid\"",
+                format(body.pore_pressure), "core (body)");
+      }
       if (b.has("min") && b.has("max")) {
         body.min = to_array(b.vector("min"));
         body.max = to_array(b.vector("max"));

@@ -233,6 +233,10 @@ void Simulation::add_saturated_fields() {
   sf_.liquid_density = points_.add_field({"liquid_density", K::Scalar, "kg/m^3", "density of the pore liquid", true});
   sf_.liquid_mass = points_.add_field({"liquid_mass", K::Scalar, "kg", "n rho_L V (per metre in 2D)", true});
   sf_.bulk_modulus = points_.add_field({"liquid_bulk_modulus", K::Scalar, "Pa", "K_L of the pore liquid", false});
+  sf_.pressure_rate =
+      points_.add_field({"pore_pressure_rate", K::Scalar, "Pa/s", "unsmoothed rate of the pore pressure", false});
+  node_pressure_rate_.assign(grid_.node_count(), 0.0);
+  node_volume_.assign(grid_.node_count(), 0.0);
 }
 
 double Simulation::critical_time_step() const {
@@ -294,6 +298,7 @@ void Simulation::create_points() {
             v[p * dim + a] = body.velocity[a];
             size[p * dim + a] = spacing[a];
           }
+          for (int c = 0; c < 6; ++c) points_.data(f.stress)[p * 6 + c] = body.stress[c];
           V[p] = volume;
           m[p] = volume * phase.density() * (body.liquid ? 1 - body.porosity : 1.0);
           id[p] = static_cast<double>(body.material);
@@ -304,6 +309,7 @@ void Simulation::create_points() {
       const Liquid& liquid = *liquids_[*body.liquid];
       for (std::size_t q = range.begin; q < range.end; ++q) {
         points_.data(sf_.porosity)[q] = body.porosity;
+        points_.data(sf_.pressure)[q] = body.pore_pressure;
         points_.data(sf_.liquid_density)[q] = liquid.density();
         points_.data(sf_.bulk_modulus)[q] = liquid.bulk_modulus();
         points_.data(sf_.liquid_mass)[q] = body.porosity * liquid.density() * volume;
@@ -529,8 +535,24 @@ void Simulation::update_stress() {
       porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(), nodes_.liquid_velocity.data(),
              points_.data(f.velocity_gradient), points_.data(sf_.bulk_modulus), points_.data(sf_.liquid_density),
              points_.data(f.volume), points_.data(f.velocity), points_.data(sf_.liquid_velocity),
-             points_.data(sf_.porosity), points_.data(sf_.pressure), points_.data(sf_.liquid_mass),
+             points_.data(sf_.porosity), points_.data(sf_.pressure_rate), points_.data(sf_.liquid_mass),
              points_.data(sf_.darcy_flux));
+    });
+    // Pressure smoothing: the pore-pressure rate is averaged over the nodes
+    // and interpolated back. Raw point rates carry the checkerboard modes of a
+    // nearly incompressible mixture on linear cells (as in Anura3D).
+    std::fill(node_pressure_rate_.begin(), node_pressure_rate_.end(), 0.0);
+    std::fill(node_volume_.begin(), node_volume_.end(), 0.0);
+    ScatterTargets targets;
+    targets.add(node_pressure_rate_);
+    targets.add(node_volume_);
+    scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
+      detail::p2g_pressure_rate<1>(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.volume),
+                                   points_.data(sf_.pressure_rate), out[0], out[1]);
+    });
+    for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
+      detail::g2p_pressure(b, e, npp_, dt_, node_ids_.data(), weights_.data(), node_pressure_rate_.data(),
+                           node_volume_.data(), points_.data(sf_.pressure));
     });
   }
   for (const MaterialRange& r : ranges_) {

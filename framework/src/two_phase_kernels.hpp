@@ -107,7 +107,7 @@ void g2p_liquid(std::size_t begin, std::size_t end, int npp, double dt, const st
 template <int D>
 void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
                    const double* node_vl, const double* L, const double* bulk, const double* rho_l,
-                   const double* volume, const double* vs, const double* vl, double* n, double* pressure,
+                   const double* volume, const double* vs, const double* vl, double* n, double* pressure_rate,
                    double* liquid_mass, double* darcy) {
   for (std::size_t p = begin; p < end; ++p) {
     double div_l = 0;
@@ -127,10 +127,35 @@ void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const
       J = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
     }
     const double n0 = n[p];
-    pressure[p] -= bulk[p] / n0 * ((1 - n0) * div_s + n0 * div_l) * dt;
+    pressure_rate[p] = -bulk[p] / n0 * ((1 - n0) * div_s + n0 * div_l);
     n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
     liquid_mass[p] = n[p] * rho_l[p] * volume[p];
     for (int i = 0; i < D; ++i) darcy[p * D + i] = n[p] * (vl[p * D + i] - vs[p * D + i]);
+  }
+}
+
+// Pressure smoothing, scatter half: volume-weighted nodal pressure rates.
+template <int D>
+void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+                       const double* volume, const double* rate, double* node_rate, double* node_volume) {
+  for (std::size_t p = begin; p < end; ++p)
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      node_rate[ids[k]] += w[k] * volume[p] * rate[p];
+      node_volume[ids[k]] += w[k] * volume[p];
+    }
+}
+
+// Gather half: each point's pressure grows by the interpolated nodal rate.
+inline void g2p_pressure(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
+                         const double* w, const double* node_rate, const double* node_volume, double* pressure) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double rate = 0;
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      if (node_volume[ids[k]] > 0) rate += w[k] * node_rate[ids[k]] / node_volume[ids[k]];
+    }
+    pressure[p] += rate * dt;
   }
 }
 

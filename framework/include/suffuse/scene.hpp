@@ -40,6 +40,8 @@ struct BodySpec {
   std::array<double, 3> velocity{};
   std::optional<std::size_t> liquid;  // index into Scene::liquids: a saturated body
   double porosity = 0;                // initial, saturated bodies only
+  std::array<double, 6> stress{};     // initial (effective) stress, Voigt
+  double pore_pressure = 0;           // initial, saturated bodies only
 };
 
 struct OutputSpec {
