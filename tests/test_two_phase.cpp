@@ -99,3 +99,62 @@ TEST(TwoPhase, SaturatedSceneValidation) {
 }
 
 }  // namespace
+
+namespace {
+
+// share/scenes/upward_seepage.json at t = 0.6 s (steady after ~0.15 s):
+// Darcy flux K dh / L within 1%, pore pressure linear in height, vertical
+// effective stress (gamma' - i gamma_w) z within 2%.
+TEST(TwoPhase, SteadyUpwardSeepage) {
+  auto j = read_json(source_dir() / "share/scenes/upward_seepage.json");
+  j["outputs"] = nlohmann::json::array();
+  const double L = 1.0, dh = 0.5, K = 0.01, n = 0.4, rho_s = 2650, rho_w = 1000, g = 9.81;
+  const double gamma_w = rho_w * g, i = dh / L;
+  const double gamma_buoyant = (1 - n) * (rho_s - rho_w) * g;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  sim.run({});
+  EXPECT_NEAR(sim.time(), 0.6, 1e-12);
+
+  const auto& pts = sim.points();
+  const double* x = pts.data(pts.core().position);
+  const double* u = pts.data(pts.core().displacement);
+  const double* s = pts.data(pts.core().stress);
+  const double* p = pts.data(pts.id("pore_pressure"));
+  const double* q = pts.data(pts.id("darcy_flux"));
+  double q_mean = 0, q_worst = 0, p_worst = 0, s_worst = 0, s_worst_abs = 0;
+  std::vector<double> layer_flux(100, 0.0);  // flux through each layer of points (0.01 m)
+  const double q_exact = K * dh / L, p_base = gamma_w * (L + dh);
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const double y = x[2 * k + 1] - u[2 * k + 1], z = L - y;
+    q_mean += q[2 * k + 1] / static_cast<double>(pts.size());
+    layer_flux[static_cast<std::size_t>(y / 0.01)] += q[2 * k + 1] / 2;  // 2 points per layer
+    p_worst = std::max(p_worst, std::abs(p[k] - gamma_w * (L + dh - y * (1 + i))) / p_base);
+    const double sv = -(gamma_buoyant - i * gamma_w) * z;
+    if (z > 0.3 && z < 0.9) s_worst = std::max(s_worst, std::abs(s[6 * k + 1] - sv) / std::abs(sv));
+    s_worst_abs = std::max(s_worst_abs, std::abs(s[6 * k + 1] - sv) / ((gamma_buoyant - i * gamma_w) * L));
+  }
+  // Flux through each cross-section, except the last five cells (0.1 m) below
+  // the free top where the liquid leaves the body: points there deviate by up
+  // to 43% (known defect of the outflow surface, see docs/two-phase.md).
+  for (std::size_t layer = 0; layer < 90; ++layer)
+    q_worst = std::max(q_worst, std::abs(layer_flux[layer] - q_exact) / q_exact);
+  EXPECT_NEAR(q_mean / q_exact, 1.0, 0.01);
+  EXPECT_LT(q_worst, 0.01) << "flux through the cross-sections below the outlet cells";
+  // Linear in height: within 2% of the base pressure (a slow oscillation of
+  // the lower points, up to 1.9% at t = 1 s, is not damped yet).
+  EXPECT_LT(p_worst, 0.02);
+  // Relative to the local value from 0.3 m depth (the stress at a point lags
+  // the exact value by half a point spacing, 24 Pa here), and relative to the
+  // base value everywhere.
+  EXPECT_LT(s_worst, 0.02);
+  EXPECT_LT(s_worst_abs, 0.02);
+  RecordProperty("darcy_flux_error", text(std::abs(q_mean / q_exact - 1)));
+  RecordProperty("darcy_flux_worst_point_error", text(q_worst));
+  RecordProperty("pressure_linearity_error", text(p_worst));
+  RecordProperty("effective_stress_error", text(s_worst));
+  RecordProperty("effective_stress_error_vs_base", text(s_worst_abs));
+}
+
+}  // namespace

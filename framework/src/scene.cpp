@@ -64,6 +64,12 @@ std::vector<CoreSection> core_sections() {
         "Initial uniform (effective) stress xx, yy, zz, yz, xz, xy, tension positive (default zero)");
     s.number("pore_pressure").with_unit("Pa").fallback(0.0).doc(
         "Initial uniform pore pressure of a saturated body, compression positive");
+    s.number("water_table").with_unit("m").may_be_absent().doc(
+        "Elevation of the water table (y in 2D, z in 3D): adds the hydrostatic pore pressure rho_L g (water_table - "
+        "elevation) below it, for saturated bodies");
+    s.number("k0").with_unit("-").at_least(0).may_be_absent().doc(
+        "Adds the geostatic effective stress of the body's own weight below its top (buoyant weight if saturated), "
+        "with horizontal stress k0 times the vertical");
     sections.push_back({"body", "A box of material points of one material (an entry of /bodies)", s});
   }
   {
@@ -341,6 +347,13 @@ class SceneReader {
               format(b.number("porosity")), "core (body)");
       }
       if (b.has("porosity")) body.porosity = b.number("porosity");
+      if (b.has("water_table")) {
+        body.water_table = b.number("water_table");
+        if (!b.has("liquid"))
+          error(ptr + "/water_table", "water table in a dry body", "no water_table without \"liquid\"",
+                format(*body.water_table), "core (body)");
+      }
+      if (b.has("k0")) body.k0 = b.number("k0");
       if (b.has("stress")) {
         const auto& s = b.vector("stress");
         for (std::size_t c = 0; c < s.size() && c < 6; ++c) body.stress[c] = s[c];

@@ -317,9 +317,32 @@ void Simulation::create_points() {
       }
       update_conductivity(ranges_.back());
     }
+    set_geostatic_state(body, range);
     body_names_.push_back(body.name);
     body_ranges_.push_back(range);
     phase.initialise(points_, range);
+  }
+}
+
+void Simulation::set_geostatic_state(const BodySpec& body, PointRange range) {
+  // Vertical axis: the last one; g: the gravity component along it, downward.
+  const int dim = scene_.dim, v = dim - 1;
+  const double g = -scene_.gravity[v];
+  const double* x = points_.data(points_.core().position);
+  const double rho_l = body.liquid ? liquids_[*body.liquid]->density() : 0.0;
+  if (body.k0) {
+    const double rho = phases_[body.material]->density();
+    const double unit_weight = body.liquid ? (1 - body.porosity) * (rho - rho_l) * g : rho * g;
+    double* s = points_.data(points_.core().stress);
+    for (std::size_t p = range.begin; p < range.end; ++p) {
+      const double sv = -unit_weight * (body.max[v] - x[p * dim + v]);
+      for (int a = 0; a < 3; ++a) s[p * 6 + a] += (a == v ? 1.0 : *body.k0) * sv;
+    }
+  }
+  if (body.liquid && body.water_table) {
+    double* pr = points_.data(sf_.pressure);
+    for (std::size_t p = range.begin; p < range.end; ++p)
+      pr[p] += rho_l * g * std::max(0.0, *body.water_table - x[p * dim + v]);
   }
 }
 

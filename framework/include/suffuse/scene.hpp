@@ -42,6 +42,8 @@ struct BodySpec {
   double porosity = 0;                // initial, saturated bodies only
   std::array<double, 6> stress{};     // initial (effective) stress, Voigt
   double pore_pressure = 0;           // initial, saturated bodies only
+  std::optional<double> water_table;  // hydrostatic initial pore pressure below it
+  std::optional<double> k0;           // geostatic initial effective stress
 };
 
 struct OutputSpec {

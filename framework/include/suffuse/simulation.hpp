@@ -97,6 +97,7 @@ class Simulation {
   void points_to_grid_saturated();
   void update_grid_saturated();
   void update_conductivity(const MaterialRange& r);
+  void set_geostatic_state(const BodySpec& body, PointRange range);
 
   void create_points();
   void check_points_in_grid() const;

@@ -1,0 +1,116 @@
+// bc/pore_pressure: prescribed pore pressure (or hydraulic head) on a grid
+// face of a saturated body: a drained boundary or a seepage inlet/outlet.
+// The pressure enters the weak form as the boundary traction -p n on the
+// liquid and on the mixture; the liquid is left free to cross the face.
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <suffuse/error.hpp>
+#include <suffuse/plugin.hpp>
+#include <vector>
+
+namespace {
+
+class PorePressureBC final : public suffuse::BoundaryCondition {
+ public:
+  static suffuse::ParameterSchema schema() {
+    suffuse::ParameterSchema s;
+    s.choice("face", {"left", "right", "bottom", "top", "front", "back"}).doc("Grid face where the pressure acts");
+    s.number("pressure").with_unit("Pa").may_be_absent().doc("Prescribed pore pressure p, compression positive");
+    s.number("head").with_unit("m").may_be_absent().doc(
+        "Prescribed hydraulic head h instead of pressure: p = gamma_w (h - elevation), elevation the vertical "
+        "coordinate (y in 2D, z in 3D)");
+    s.number("unit_weight").with_unit("N/m^3").above(0).fallback(9810.0).doc(
+        "Unit weight of the liquid gamma_w, to convert head to pressure");
+    s.number("ramp_time").with_unit("s").at_least(0).fallback(0.0).doc(
+        "Time over which the pressure grows linearly from its initial value on the face (0: at once)");
+    s.number("initial_head").with_unit("m").may_be_absent().doc(
+        "Head at the start of the ramp (default: the prescribed head, i.e. no ramp of the head)");
+    return s;
+  }
+
+  static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters& p, int dim) {
+    std::vector<suffuse::ParameterIssue> issues;
+    if (p.has("pressure") == p.has("head"))
+      issues.push_back({"", "no unique boundary value", "either \"pressure\" or \"head\"",
+                        p.has("pressure") ? "both" : "neither"});
+    if (dim == 2 && (p.string("face") == "front" || p.string("face") == "back"))
+      issues.push_back({"face", "no such face in 2D", "one of {left, right, bottom, top}", "\"" + p.string("face") + "\""});
+    if (p.has("initial_head") && !p.has("head"))
+      issues.push_back({"initial_head", "initial head without head", "\"head\" as well", "only initial_head"});
+    return issues;
+  }
+
+  explicit PorePressureBC(const suffuse::PluginArgs& a)
+      : dim_(a.dim),
+        where_(a.instance),
+        face_(a.params.string("face")),
+        gamma_(a.params.number("unit_weight")),
+        ramp_(a.params.number("ramp_time")) {
+    if (a.params.has("pressure")) {
+      pressure_ = a.params.number("pressure");
+    } else {
+      head_ = a.params.number("head");
+      initial_head_ = a.params.has("initial_head") ? a.params.number("initial_head") : *head_;
+    }
+  }
+
+  void setup(const suffuse::GridGeometry& grid) override {
+    const std::string faces[6] = {"left", "right", "bottom", "top", "front", "back"};
+    int f = 0;
+    while (faces[f] != face_) ++f;
+    axis_ = f / 2;
+    sign_ = f % 2 ? 1.0 : -1.0;  // outward normal component
+    const int index = f % 2 ? grid.nodes_per_axis()[axis_] - 1 : 0;
+    nodes_.clear();
+    areas_.clear();
+    elevations_.clear();
+    for (std::size_t I = 0; I < grid.node_count(); ++I) {
+      const auto ijk = grid.node_ijk(static_cast<std::int64_t>(I));
+      if (ijk[axis_] != index) continue;
+      double area = 1;
+      for (int a = 0; a < dim_; ++a) {
+        if (a == axis_) continue;
+        const bool end = ijk[a] == 0 || ijk[a] == grid.nodes_per_axis()[a] - 1;
+        area *= grid.cell_size()[a] * (end ? 0.5 : 1.0);
+      }
+      nodes_.push_back(static_cast<std::int64_t>(I));
+      areas_.push_back(area);
+      elevations_.push_back(grid.node_position(static_cast<std::int64_t>(I))[dim_ - 1]);
+    }
+  }
+
+  void apply_forces(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
+    if (!state.has_liquid()) return;
+    const double r = ramp_ > 0 ? std::min(1.0, time / ramp_) : 1.0;
+    for (std::size_t k = 0; k < nodes_.size(); ++k) {
+      double p;
+      if (head_) {
+        const double h = *initial_head_ + r * (*head_ - *initial_head_);
+        p = gamma_ * (h - elevations_[k]);
+      } else {
+        p = r * *pressure_;
+      }
+      const double f = -p * sign_ * areas_[k];  // traction -p n
+      state.force[nodes_[k] * dim_ + axis_] += f;
+      state.liquid_force[nodes_[k] * dim_ + axis_] += f;
+    }
+  }
+
+ private:
+  int dim_;
+  std::string where_, face_;
+  double gamma_, ramp_;
+  std::optional<double> pressure_, head_, initial_head_;
+  int axis_ = 0;
+  double sign_ = -1;
+  std::vector<std::int64_t> nodes_;
+  std::vector<double> areas_, elevations_;
+};
+
+}  // namespace
+
+SUFFUSE_PLUGIN_LIBRARY(registry) {
+  registry.add<suffuse::BoundaryCondition, PorePressureBC>(
+      "bc/pore_pressure", "Prescribed pore pressure or hydraulic head on a grid face (drained boundary, seepage inlet)");
+}
