@@ -158,3 +158,48 @@ TEST(TwoPhase, SteadyUpwardSeepage) {
 }
 
 }  // namespace
+
+namespace {
+
+// Undrained compression wave: the terzaghi column with K = 1e-5 m/s (the
+// liquid cannot move relative to the skeleton within the test) on a 1 cm
+// grid, loaded at once at the top. The pressure front reaches 0.5 m depth
+// after h / c_u, c_u = sqrt((E_oed + K_L/n) / rho_sat); arrival is taken where
+// the pore pressure of the point there crosses half its undrained value.
+TEST(TwoPhase, UndrainedWaveArrival) {
+  auto j = read_json(source_dir() / "share/scenes/terzaghi.json");
+  j["outputs"] = nlohmann::json::array();
+  j["damping"] = 0.0;
+  j["materials"]["soil"]["permeability"]["hydraulic_conductivity"] = 1e-5;
+  j["bodies"][0]["pore_pressure"] = 0.0;
+  j["bodies"][0]["stress"] = {0, 0, 0, 0, 0, 0};
+  j["grid"]["cell_size"] = {0.01, 0.01};
+  j["grid"]["cells"] = {1, 110};
+  j["bodies"][0]["max"] = {0.01, 1.0};
+  j["boundary_conditions"][3]["box_max"] = {0.01, 1.0};
+  const double E = 1e6, KL = 1e8, n = 0.4, rho_sat = (1 - n) * 2650 + n * 1000, s = 1e4;
+  const double cu = std::sqrt((E + KL / n) / rho_sat), u0 = s * (KL / n) / (KL / n + E);
+
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  const auto& pts = sim.points();
+  const double* x = pts.data(pts.core().position);
+  std::size_t probe = 0;
+  for (std::size_t k = 0; k < pts.size(); ++k)
+    if (std::abs(x[2 * k + 1] - 0.5) < std::abs(x[2 * probe + 1] - 0.5)) probe = k;
+  const double depth = 1.0 - x[2 * probe + 1];
+  const double* p = pts.data(pts.id("pore_pressure"));
+  double arrival = -1, before = 0, t_before = 0;
+  while (sim.time() < 3 * depth / cu && arrival < 0) {
+    sim.step();
+    if (p[probe] >= 0.5 * u0) arrival = t_before + (sim.time() - t_before) * (0.5 * u0 - before) / (p[probe] - before);
+    before = p[probe];
+    t_before = sim.time();
+  }
+  ASSERT_GT(arrival, 0) << "the wave never arrived";
+  EXPECT_NEAR(arrival / (depth / cu), 1.0, 0.05);
+  RecordProperty("wave_arrival_error", text(arrival / (depth / cu) - 1));
+}
+
+}  // namespace
