@@ -203,3 +203,44 @@ TEST(TwoPhase, UndrainedWaveArrival) {
 }
 
 }  // namespace
+
+namespace {
+
+// Top displacement of the upward-seepage column at 0.1, 0.2 and 0.3 s for a
+// head difference dh, with a cohesionless (tension cutoff) skeleton.
+std::vector<double> heave_history(double dh) {
+  auto j = read_json(source_dir() / "share/scenes/upward_seepage.json");
+  j["outputs"] = nlohmann::json::array();
+  j["grid"]["cells"] = {1, 80};  // room above the column
+  j["materials"]["sand"]["tension_cutoff"] = true;
+  j["boundary_conditions"][4]["head"] = 1.0 + dh;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  const auto& pts = sim.points();
+  std::vector<double> top;
+  for (const double t : {0.1, 0.2, 0.3}) {
+    while (sim.time() < t - 0.5 * sim.dt()) sim.step();
+    top.push_back(pts.data(pts.core().displacement)[2 * (pts.size() - 1) + 1]);
+  }
+  return top;
+}
+
+// Heave: below the critical gradient i_cr = (G_s - 1)(1 - n) = 0.99 the
+// column comes to rest; above it (i = 1.2) the skeleton lifts and keeps rising.
+TEST(TwoPhase, HeaveAboveTheCriticalGradient) {
+  const std::vector<double> below = heave_history(0.5), above = heave_history(1.2);
+  // i = 0.5: the elastic rebound of the unloading, then rest (0.25 mm).
+  EXPECT_GT(below[1], 0.0);
+  EXPECT_LT(below[1], 1e-3);
+  EXPECT_NEAR(below[2], below[1], 1e-6) << "the column should be at rest";
+  // i = 1.2: upward and growing, far beyond the elastic rebound.
+  EXPECT_GT(above[0], 0.0);
+  EXPECT_GT(above[1], above[0] + 1e-3);
+  EXPECT_GT(above[2], above[1] + 5e-4);
+  EXPECT_GT(above[2], 10 * below[2]);
+  RecordProperty("heave_top_displacement_at_0.3s", text(above[2]));
+  RecordProperty("rest_top_displacement_at_0.3s", text(below[2]));
+}
+
+}  // namespace

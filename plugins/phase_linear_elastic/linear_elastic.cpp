@@ -1,5 +1,6 @@
 // phase/linear_elastic: isotropic Hooke's law, small-strain incremental form,
 // with the Jaumann rate so that a rigid rotation does not create stress.
+#include <Eigen/Eigenvalues>
 #include <suffuse/plugin.hpp>
 
 namespace {
@@ -11,13 +12,17 @@ class LinearElastic final : public suffuse::Phase {
     s.number("density").with_unit("kg/m^3").above(0).doc("Mass density");
     s.number("youngs_modulus").with_unit("Pa").above(0).doc("Young's modulus E");
     s.number("poisson_ratio").with_unit("-").above(-1).below(0.5).fallback(0.0).doc("Poisson's ratio nu");
+    s.boolean("tension_cutoff").fallback(false).doc(
+        "Cohesionless skeleton: a point whose largest principal (effective) stress turns tensile carries no "
+        "stress at all, so the grains can separate (heave, fluidisation)");
     return s;
   }
 
   explicit LinearElastic(const suffuse::PluginArgs& args)
       : rho_(args.params.number("density")),
         E_(args.params.number("youngs_modulus")),
-        nu_(args.params.number("poisson_ratio")) {
+        nu_(args.params.number("poisson_ratio")),
+        tension_cutoff_(args.params.boolean("tension_cutoff")) {
     G_ = E_ / (2 * (1 + nu_));
     lambda_ = E_ * nu_ / ((1 + nu_) * (1 - 2 * nu_));
   }
@@ -59,6 +64,9 @@ class LinearElastic final : public suffuse::Phase {
           for (int k = 0; k < 3; ++k) rot += w[i][k] * s[k][j] - s[i][k] * w[k][j];
           ns[i][j] = s[i][j] + 2 * G_ * d[i][j] + (i == j ? lambda_ * tr : 0.0) + rot;
         }
+      if (tension_cutoff_ && largest_principal(ns) > 0)
+        for (auto& row : ns)
+          for (double& v : row) v = 0;
       s6[0] = ns[0][0];
       s6[1] = ns[1][1];
       s6[2] = ns[2][2];
@@ -68,7 +76,16 @@ class LinearElastic final : public suffuse::Phase {
     }
   }
 
-  double rho_, E_, nu_, G_, lambda_;
+  static double largest_principal(const double (&s)[3][3]) {
+    Eigen::Matrix3d m;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m(i, j) = s[i][j];
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()(2);
+  }
+
+  double rho_, E_, nu_;
+  bool tension_cutoff_;
+  double G_, lambda_;
 };
 
 }  // namespace
