@@ -26,12 +26,7 @@ class StageTimer {
   Clock::time_point start_;
 };
 
-// Voigt index of the symmetric tensor component (i, j): xx yy zz yz xz xy.
-constexpr int voigt(int i, int j) {
-  if (i == j) return i;
-  const int s = i + j;  // (1,2)->3 yz, (0,2)->4 xz, (0,1)->5 xy
-  return s == 3 ? 3 : (s == 2 ? 4 : 5);
-}
+using detail::voigt_index;  // xx yy zz yz xz xy
 
 // ---- kernels, one loop each, specialised by dimension ----
 
@@ -52,7 +47,7 @@ void p2g_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t*
       for (int i = 0; i < D; ++i) {
         node_mom[I * D + i] += wm * v[i];
         double f = wm * g[i];
-        for (int j = 0; j < D; ++j) f -= V * s[voigt(i, j)] * grad[j];
+        for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
         node_force[I * D + i] += f;
       }
     }
@@ -139,18 +134,9 @@ void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, doubl
     for (int i = 0; i < D; ++i)
       for (int j = 0; j < D; ++j) Lp[i * D + j] = l[i][j];
     for (int i = 0; i < D; ++i)
-      for (int j = i; j < D; ++j) e[voigt(i, j)] += 0.5 * (l[i][j] + l[j][i]) * dt;
+      for (int j = i; j < D; ++j) e[voigt_index(i, j)] += 0.5 * (l[i][j] + l[j][i]) * dt;
     // Volume follows det(I + L dt) of the step.
-    double J;
-    if constexpr (D == 2) {
-      J = (1 + l[0][0] * dt) * (1 + l[1][1] * dt) - l[0][1] * l[1][0] * dt * dt;
-    } else {
-      const double a = 1 + l[0][0] * dt, b = l[0][1] * dt, c = l[0][2] * dt;
-      const double d = l[1][0] * dt, e2 = 1 + l[1][1] * dt, f = l[1][2] * dt;
-      const double g = l[2][0] * dt, h = l[2][1] * dt, i = 1 + l[2][2] * dt;
-      J = a * (e2 * i - f * h) - b * (d * i - f * g) + c * (d * h - e2 * g);
-    }
-    volume[p] *= J;
+    volume[p] *= detail::step_jacobian<D>(Lp, dt);
   }
 }
 

@@ -17,6 +17,18 @@ constexpr int voigt_index(int i, int j) {
   return s == 3 ? 3 : (s == 2 ? 4 : 5);
 }
 
+// det(I + L dt) for a row-major D x D velocity gradient L: the volume ratio of a step.
+template <int D>
+double step_jacobian(const double* l, double dt) {
+  if constexpr (D == 2) {
+    return (1 + l[0] * dt) * (1 + l[3] * dt) - l[1] * l[2] * dt * dt;
+  } else {
+    const double a = 1 + l[0] * dt, b = l[1] * dt, c = l[2] * dt, d = l[3] * dt, e = 1 + l[4] * dt;
+    const double f = l[5] * dt, g = l[6] * dt, h = l[7] * dt, i = 1 + l[8] * dt;
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+  }
+}
+
 // Nodal targets of the saturated points-to-grid scatter.
 struct SaturatedNodes {
   double* solid_mass;       // sum N (1-n) rho_s V
@@ -118,14 +130,7 @@ void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const
     const double* l = L + p * D * D;
     double div_s = 0;
     for (int i = 0; i < D; ++i) div_s += l[i * D + i];
-    double J;
-    if constexpr (D == 2) {
-      J = (1 + l[0] * dt) * (1 + l[3] * dt) - l[1] * l[2] * dt * dt;
-    } else {
-      const double a = 1 + l[0] * dt, b = l[1] * dt, c = l[2] * dt, d = l[3] * dt, e = 1 + l[4] * dt;
-      const double f = l[5] * dt, g = l[6] * dt, h = l[7] * dt, i = 1 + l[8] * dt;
-      J = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
-    }
+    const double J = step_jacobian<D>(l, dt);
     const double n0 = n[p];
     pressure_rate[p] = -bulk[p] / n0 * ((1 - n0) * div_s + n0 * div_l);
     n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
