@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <suffuse/plugin_loader.hpp>
 #include <suffuse/simulation.hpp>
 
 #include "test_support.hpp"
@@ -241,6 +242,34 @@ TEST(TwoPhase, HeaveAboveTheCriticalGradient) {
   EXPECT_GT(above[2], 10 * below[2]);
   RecordProperty("heave_top_displacement_at_0.3s", text(above[2]));
   RecordProperty("rest_top_displacement_at_0.3s", text(below[2]));
+}
+
+}  // namespace
+
+namespace {
+
+// Permeability laws, evaluated as the solver does (one batch).
+TEST(TwoPhase, PermeabilityLaws) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
+  const suffuse::Parameters kc({{"hydraulic_conductivity", 1e-4}, {"reference_porosity", 0.35}});
+  auto kozeny = registry.create<suffuse::PermeabilityLaw>("permeability/kozeny_carman", {kc, 2, "/x"});
+  const std::vector<double> n = {0.35, 0.2, 0.5, 0.9};
+  std::vector<double> K(n.size());
+  kozeny->conductivity(n, K);
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    const double exact = 1e-4 * std::pow(n[k], 3) / std::pow(1 - n[k], 2) * std::pow(1 - 0.35, 2) / std::pow(0.35, 3);
+    EXPECT_NEAR(K[k], exact, 1e-12 * exact) << "n = " << n[k];
+  }
+  EXPECT_DOUBLE_EQ(K[0], 1e-4);  // K_0 at the reference porosity
+  EXPECT_LT(K[1], K[0]);
+  EXPECT_GT(K[2], K[0]);
+
+  const suffuse::Parameters c({{"hydraulic_conductivity", 3e-5}});
+  auto constant = registry.create<suffuse::PermeabilityLaw>("permeability/constant", {c, 2, "/x"});
+  constant->conductivity(n, K);
+  for (double k : K) EXPECT_EQ(k, 3e-5);
 }
 
 }  // namespace
