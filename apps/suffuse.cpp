@@ -223,7 +223,15 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
     std::cout << " cells, " << sim.points().size() << " material points, dt = " << sim.dt() << " s"
               << (scene.dt ? " (fixed)" : " (automatic, cfl " + format_number(scene.cfl) + ")") << ", end "
               << scene.end_time << " s\n";
-    if (!scene.outputs.empty()) std::cout << "  output: " << output.string() << "\n";
+    for (const auto& liquid : scene.liquids) {
+      // A lowered bulk modulus is a numerical choice that changes the physics: say it.
+      const double KL = liquid.liquid.params.has("bulk_modulus") ? liquid.liquid.params.number("bulk_modulus") : 0;
+      std::cout << "  liquid '" << liquid.name << "': bulk modulus " << KL << " Pa"
+                << (KL < 2.2e9 ? " (lower than water's 2.2e9 Pa: a larger time step, a more compressible liquid)" : "")
+                << "\n";
+    }
+    if (!scene.outputs.empty())
+      std::cout << "  output: " << output.string() << " (run settings in " << scene.name << ".run.json)\n";
   }
 
   suffuse::RunOptions options;

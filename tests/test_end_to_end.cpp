@@ -183,6 +183,34 @@ TEST(EndToEnd, CommandsForPluginsAndHelp) {
   EXPECT_EQ(run("frobnicate", out / "unknown.txt"), 2);
 }
 
+// A saturated run says which liquid bulk modulus it uses, in the log and in
+// <name>.run.json beside the outputs.
+TEST(EndToEnd, SaturatedRunRecordsItsNumericalChoices) {
+  const fs::path out = fresh_dir("runinfo");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/terzaghi.json");
+  j["time"]["end"] = 0.001;
+  std::ofstream(out / "tz.json") << j.dump(2);
+  ASSERT_EQ(run("run " + (out / "tz.json").string() + " --output " + out.string(), out / "log.txt"), 0)
+      << slurp(out / "log.txt");
+  EXPECT_NE(slurp(out / "log.txt").find("liquid 'water': bulk modulus 1e+08 Pa (lower than water's 2.2e9 Pa"),
+            std::string::npos)
+      << slurp(out / "log.txt");
+  const auto info = suffuse::test::read_json(out / "tz.run.json");
+  EXPECT_EQ(info["liquids"]["water"]["bulk_modulus"].get<double>(), 1e8);
+  EXPECT_EQ(info["time_step_mode"], "automatic");
+  EXPECT_EQ(info["saturated"], true);
+  EXPECT_EQ(info["points"], 200);
+  EXPECT_GT(info["time_step"].get<double>(), 0.0);
+  // The saturated fields are in the frames.
+  const auto frames = read_pvd(out / "tz.pvd");
+  ASSERT_FALSE(frames.empty());
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName((out / frames.back().file).c_str());
+  reader->Update();
+  for (const char* name : {"porosity", "pore_pressure", "liquid_velocity", "darcy_flux", "hydraulic_conductivity"})
+    EXPECT_NE(reader->GetOutput()->GetPointData()->GetArray(name), nullptr) << name;
+}
+
 // docs/scene-reference.md is generated from the schemas: it must be current.
 TEST(EndToEnd, SceneReferenceIsUpToDate) {
   const fs::path out = fresh_dir("reference");

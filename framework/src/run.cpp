@@ -4,10 +4,39 @@
 #include <cmath>
 #include <filesystem>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
+
 #include "suffuse/error.hpp"
 #include "suffuse/simulation.hpp"
+#include "suffuse/version.hpp"
 
 namespace suffuse {
+
+// The numerical choices of the run, next to its outputs, so that a reduced
+// liquid bulk modulus or a chosen time step is never silent.
+void Simulation::write_run_info(const std::filesystem::path& file) const {
+  nlohmann::ordered_json info;
+  info["suffuse_version"] = framework_version;
+  info["scene"] = scene_.file.string();
+  info["dimension"] = scene_.dim;
+  info["points"] = points_.size();
+  info["time_step"] = dt_;
+  info["time_step_mode"] = scene_.dt ? "fixed" : "automatic";
+  info["cfl"] = scene_.cfl;
+  info["end_time"] = scene_.end_time;
+  info["damping"] = scene_.damping;
+  info["threads"] = threads_;
+  info["saturated"] = saturated_;
+  for (std::size_t l = 0; l < liquids_.size(); ++l) {
+    info["liquids"][scene_.liquids[l].name] = {{"density", liquids_[l]->density()},
+                                               {"bulk_modulus", liquids_[l]->bulk_modulus()},
+                                               {"viscosity", liquids_[l]->viscosity()}};
+  }
+  std::ofstream out(file);
+  out << info.dump(2) << "\n";
+  if (!out) throw Error("cannot write " + file.string());
+}
 
 RunSummary Simulation::run(const RunOptions& options) {
   using Clock = std::chrono::steady_clock;
@@ -17,7 +46,10 @@ RunSummary Simulation::run(const RunOptions& options) {
   // Output schedule: every writer writes the initial state, then at multiples
   // of its interval, and the final state.
   std::vector<double> interval(writers_.size()), next(writers_.size());
-  if (!writers_.empty()) std::filesystem::create_directories(options.output_dir);
+  if (!writers_.empty()) {
+    std::filesystem::create_directories(options.output_dir);
+    write_run_info(options.output_dir / (scene_.name + ".run.json"));
+  }
   for (std::size_t w = 0; w < writers_.size(); ++w) {
     interval[w] = scene_.outputs[w].interval.value_or(end / 20);
     // One output keeps the scene's name; several get a suffix each.

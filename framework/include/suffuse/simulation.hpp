@@ -100,6 +100,7 @@ class Simulation {
   void set_geostatic_state(const BodySpec& body, PointRange range);
 
   void create_points();
+  void write_run_info(const std::filesystem::path& file) const;
   void check_points_in_grid() const;
   void compute_shape_functions();
   void reset_grid();
