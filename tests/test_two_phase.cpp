@@ -273,3 +273,31 @@ TEST(TwoPhase, PermeabilityLaws) {
 }
 
 }  // namespace
+
+namespace {
+
+// Two threads give the numbers of one thread in a saturated run too (eight
+// nodal arrays are scattered per step).
+TEST(TwoPhase, ThreadsAgreeWithSerial) {
+  auto j = read_json(source_dir() / "share/scenes/upward_seepage.json");
+  j["outputs"] = nlohmann::json::array();
+  j["time"]["end"] = 0.1;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation serial(scene, registry, 1), parallel(scene, registry, 2);
+  serial.run({});
+  parallel.run({});
+  for (const char* field : {"pore_pressure", "darcy_flux", "stress", "porosity"}) {
+    const auto a = serial.points().values(serial.points().id(field));
+    const auto b = parallel.points().values(parallel.points().id(field));
+    double scale = 0, diff = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      scale = std::max(scale, std::abs(a[k]));
+      diff = std::max(diff, std::abs(a[k] - b[k]));
+    }
+    EXPECT_GT(scale, 0.0) << field;
+    EXPECT_LT(diff, 1e-9 * scale) << field;  // summation order only
+  }
+}
+
+}  // namespace
