@@ -223,6 +223,9 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
     std::cout << " cells, " << sim.points().size() << " material points, dt = " << sim.dt() << " s"
               << (scene.dt ? " (fixed)" : " (automatic, cfl " + format_number(scene.cfl) + ")") << ", end "
               << scene.end_time << " s\n";
+    if (scene.mass_scaling != 1)
+      std::cout << "  mass scaling " << scene.mass_scaling
+                << ": every inertia is multiplied by it (quasi-static use only)\n";
     for (const auto& liquid : scene.liquids) {
       // A lowered bulk modulus is a numerical choice that changes the physics: say it.
       const double KL = liquid.liquid.params.has("bulk_modulus") ? liquid.liquid.params.number("bulk_modulus") : 0;

@@ -111,3 +111,15 @@ TEST(PluginLoading, BundledPluginsAreFound) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(PluginLoading, SecondLoaderOnTheSameRegistryAddsNothing) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader first(registry), second(registry);
+  first.load_path(plugin_dir / "good");
+  EXPECT_NO_THROW(second.load_path(plugin_dir / "good"));
+  EXPECT_EQ(registry.all().size(), 2u);
+}
+
+}  // namespace

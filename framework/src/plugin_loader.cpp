@@ -19,6 +19,9 @@ void PluginLoader::load_library(const fs::path& file) {
   fs::path canonical = fs::canonical(file, ec);
   if (ec) throw Error("plugin library " + file.string() + " does not exist");
   if (loaded_.count(canonical)) return;
+  // Loaded into this registry already, by another loader: nothing to add.
+  for (const auto& [name, info] : registry_.all())
+    if (info.library == canonical.string()) return;
 
   // The library must stay loaded for the life of the process: plugin objects
   // and the registry's factories point into its code. RTLD_NODELETE keeps the

@@ -24,6 +24,7 @@ void Simulation::write_run_info(const std::filesystem::path& file) const {
   info["time_step"] = dt_;
   info["time_step_mode"] = scene_.dt ? "fixed" : "automatic";
   info["cfl"] = scene_.cfl;
+  info["mass_scaling"] = scene_.mass_scaling;
   info["end_time"] = scene_.end_time;
   info["damping"] = scene_.damping;
   info["threads"] = threads_;

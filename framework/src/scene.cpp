@@ -44,6 +44,9 @@ std::vector<CoreSection> core_sections() {
         "Fixed time step; absent: automatic, cfl * h / max wave speed");
     s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
         "Courant factor of the automatic time step");
+    s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
+        "Multiplies every inertia (not the weight) for quasi-static runs: the automatic step grows by its square "
+        "root; dynamics are no longer physical. Printed in the run log and stored in <name>.run.json");
     sections.push_back({"time", "Time control", s});
   }
   {
@@ -266,6 +269,7 @@ class SceneReader {
     if (t.has("end")) scene.end_time = t.number("end");
     scene.dt = t.maybe_number("dt");
     if (t.has("cfl")) scene.cfl = t.number("cfl");
+    if (t.has("mass_scaling")) scene.mass_scaling = t.number("mass_scaling");
   }
 
   void read_materials(Scene& scene) {

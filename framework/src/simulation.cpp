@@ -33,19 +33,20 @@ using detail::voigt_index;  // xx yy zz yz xz xy
 template <int D>
 void p2g_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w, const double* dw,
                 const double* mass, const double* volume, const double* vel, const double* stress,
-                const std::array<double, 3>& g, double* node_mass, double* node_mom, double* node_force) {
+                const std::array<double, 3>& g, double scale, double* node_mass, double* node_mom,
+                double* node_force) {
   for (std::size_t p = begin; p < end; ++p) {
-    const double m = mass[p], V = volume[p];
+    const double m = mass[p], V = volume[p], inertia = scale * m;
     const double* v = vel + p * D;
     const double* s = stress + p * 6;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
-      const double wm = w[k] * m;
+      const double wm = w[k] * m, wi = w[k] * inertia;
       const double* grad = dw + k * D;
-      node_mass[I] += wm;
+      node_mass[I] += wi;
       for (int i = 0; i < D; ++i) {
-        node_mom[I * D + i] += wm * v[i];
+        node_mom[I * D + i] += wi * v[i];
         double f = wm * g[i];
         for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
         node_force[I * D + i] += f;
@@ -107,9 +108,9 @@ void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const st
 
 template <int D>
 void remap_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w, const double* mass,
-                  const double* vel, double* node_mom) {
+                  double scale, const double* vel, double* node_mom) {
   for (std::size_t p = begin; p < end; ++p) {
-    const double m = mass[p];
+    const double m = scale * mass[p];
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
@@ -247,7 +248,8 @@ double Simulation::critical_time_step() const {
   }
   if (!(dt > 0) || !std::isfinite(dt))
     throw Error("cannot choose a time step automatically: no material has a positive wave speed; set /time/dt");
-  return scene_.cfl * dt;
+  // Mass scaling multiplies every inertia by f: waves slow down by sqrt(f).
+  return scene_.cfl * dt * std::sqrt(scene_.mass_scaling);
 }
 
 void Simulation::create_points() {
@@ -420,8 +422,8 @@ void Simulation::points_to_grid() {
   targets.add(nodes_.force);
   scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, npp_, node_ids_.data(), weights_.data(), gradients_.data(), points_.data(f.mass),
-           points_.data(f.volume), points_.data(f.velocity), points_.data(f.stress), scene_.gravity, out[0], out[1],
-           out[2]);
+           points_.data(f.volume), points_.data(f.velocity), points_.data(f.stress), scene_.gravity,
+           scene_.mass_scaling, out[0], out[1], out[2]);
   });
 }
 
@@ -444,7 +446,7 @@ void Simulation::points_to_grid_saturated() {
   targets.add(node_drag_);
   scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, npp_, node_ids_.data(), weights_.data(), gradients_.data(), pt, scene_.gravity.data(),
-           detail::SaturatedNodes{out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7]});
+           scene_.mass_scaling, detail::SaturatedNodes{out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7]});
   });
 }
 
@@ -510,9 +512,10 @@ void Simulation::remap_momentum() {
   targets.add(nodes_.momentum);
   if (saturated_) targets.add(nodes_.liquid_momentum);
   scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.mass), points_.data(f.velocity), out[0]);
+    kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.mass), scene_.mass_scaling,
+           points_.data(f.velocity), out[0]);
     if (saturated_)
-      kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(sf_.liquid_mass),
+      kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(sf_.liquid_mass), scene_.mass_scaling,
              points_.data(sf_.liquid_velocity), out[1]);
   });
   const std::size_t dim = scene_.dim;

@@ -48,7 +48,8 @@ struct SaturatedPoints {
 
 template <int D>
 void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
-                   const double* dw, const SaturatedPoints& pt, const double* g, const SaturatedNodes& out) {
+                   const double* dw, const SaturatedPoints& pt, const double* g, double scale,
+                   const SaturatedNodes& out) {
   for (std::size_t p = begin; p < end; ++p) {
     const double ms = pt.mass[p], V = pt.volume[p], n = pt.porosity[p], pr = pt.pressure[p];
     const double rho_l = pt.liquid_density[p];
@@ -62,13 +63,14 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
       const std::int64_t I = ids[k];
       const double N = w[k];
       const double* grad = dw + k * D;
-      out.solid_mass[I] += N * ms;
-      out.liquid_mass[I] += N * ml;
-      out.liquid_inertia[I] += N * rho_l * V;
+      // Inertia (masses, momenta) carries the mass scaling; forces do not.
+      out.solid_mass[I] += scale * N * ms;
+      out.liquid_mass[I] += scale * N * ml;
+      out.liquid_inertia[I] += scale * N * rho_l * V;
       out.drag[I] += N * drag;
       for (int i = 0; i < D; ++i) {
-        out.solid_momentum[I * D + i] += N * ms * vs[i];
-        out.liquid_momentum[I * D + i] += N * ml * vl[i];
+        out.solid_momentum[I * D + i] += scale * N * ms * vs[i];
+        out.liquid_momentum[I * D + i] += scale * N * ml * vl[i];
         double f = N * (ms + ml) * g[i] + V * pr * grad[i];  // total stress = sigma' - p I
         for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
         out.force[I * D + i] += f;

@@ -68,6 +68,7 @@ struct Scene {
   double end_time = 0;
   std::optional<double> dt;  // absent: automatic from the CFL condition
   double cfl = 0.5;
+  double mass_scaling = 1;  // inertia factor for quasi-static runs
   std::vector<OutputSpec> outputs;
 
   bool saturated() const {
