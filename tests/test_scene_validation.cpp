@@ -220,7 +220,7 @@ TEST(SceneValidation, UnknownBoundaryConditionPlugin) {
   json j = base_scene();
   j["boundary_conditions"][2]["type"] = "bc/pressure_head";
   expect_diagnostics(j, {{"/boundary_conditions/2/type", "unknown plugin",
-                          "a boundary condition plugin, one of {bc/pore_pressure, bc/traction, bc/velocity}", "\"bc/pressure_head\"",
+                          "a boundary condition plugin, one of {bc/inflow_flux, bc/pore_pressure, bc/traction, bc/velocity}", "\"bc/pressure_head\"",
                           "core"}});
 }
 

@@ -54,6 +54,7 @@ bool GridGeometry::contains(const double* x) const {
 void NodeState::resize(std::size_t nodes, int dim, bool with_liquid) {
   const std::size_t nl = with_liquid ? nodes : 0;
   liquid_mass.assign(nl, 0.0);
+  liquid_inertia.assign(nl, 0.0);
   liquid_momentum.assign(nl * dim, 0.0);
   liquid_force.assign(nl * dim, 0.0);
   liquid_velocity.assign(nl * dim, 0.0);

@@ -172,7 +172,6 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
   nodes_.resize(grid_.node_count(), dim, saturated_);
   if (saturated_) {
-    node_liquid_inertia_.assign(grid_.node_count(), 0.0);
     node_drag_.assign(grid_.node_count(), 0.0);
   }
   // Threads other than the first scatter into their own copy of the nodal
@@ -379,7 +378,7 @@ void Simulation::update_conductivity(const MaterialRange& r) {
 void Simulation::reset_grid() {
   StageTimer t(times_.reset);
   for (auto* v : {&nodes_.mass, &nodes_.momentum, &nodes_.force, &nodes_.liquid_mass, &nodes_.liquid_momentum,
-                  &nodes_.liquid_force, &node_liquid_inertia_, &node_drag_})
+                  &nodes_.liquid_force, &nodes_.liquid_inertia, &node_drag_})
     std::fill(v->begin(), v->end(), 0.0);
 }
 
@@ -442,7 +441,7 @@ void Simulation::points_to_grid_saturated() {
   targets.add(nodes_.liquid_mass);
   targets.add(nodes_.liquid_momentum);
   targets.add(nodes_.liquid_force);
-  targets.add(node_liquid_inertia_);
+  targets.add(nodes_.liquid_inertia);
   targets.add(node_drag_);
   scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, npp_, node_ids_.data(), weights_.data(), gradients_.data(), pt, scene_.gravity.data(),
@@ -467,7 +466,7 @@ void Simulation::update_grid() {
     for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
       update(b, e, dt_, scene_.damping, nodes_.mass.data(), nodes_.momentum.data(), nodes_.force.data(),
              nodes_.liquid_mass.data(), nodes_.liquid_momentum.data(), nodes_.liquid_force.data(),
-             node_liquid_inertia_.data(), node_drag_.data(), nodes_.velocity.data(), nodes_.liquid_velocity.data());
+             nodes_.liquid_inertia.data(), node_drag_.data(), nodes_.velocity.data(), nodes_.liquid_velocity.data());
     });
   } else {
     auto update = scene_.dim == 2 ? &grid_update_kernel<2> : &grid_update_kernel<3>;

@@ -47,6 +47,7 @@ struct NodeState {
 
   // Pore liquid, in saturated runs only (empty otherwise).
   std::vector<double> liquid_mass;          // sum N n rho_L V [kg]
+  std::vector<double> liquid_inertia;       // sum N rho_L V [kg]; liquid_mass / liquid_inertia is the nodal porosity
   std::vector<double> liquid_momentum;      // [kg m/s]
   std::vector<double> liquid_force;         // [N] pressure gradient and gravity on the liquid
   std::vector<double> liquid_velocity;      // [m/s]

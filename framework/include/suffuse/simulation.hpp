@@ -136,7 +136,7 @@ class Simulation {
     FieldId porosity, pressure, liquid_velocity, conductivity, darcy_flux, liquid_density, liquid_mass,
         bulk_modulus, pressure_rate;
   } sf_{};
-  std::vector<double> node_liquid_inertia_, node_drag_, node_pressure_rate_, node_volume_;
+  std::vector<double> node_drag_, node_pressure_rate_, node_volume_;
   std::vector<MaterialRange> ranges_;
   std::vector<std::string> body_names_;
   std::vector<PointRange> body_ranges_;

@@ -1,0 +1,70 @@
+// bc/inflow_flux: a prescribed Darcy flux q entering a saturated body through
+// a grid face (seepage inlet). At each face node the liquid's normal velocity
+// is set to v_s + q / n, n the nodal porosity (sum N n rho_L V / sum N rho_L V),
+// so list it after the constraints of the skeleton on the same face.
+#include <algorithm>
+#include <string>
+#include <suffuse/plugin.hpp>
+#include <vector>
+
+namespace {
+
+class InflowFluxBC final : public suffuse::BoundaryCondition {
+ public:
+  static suffuse::ParameterSchema schema() {
+    suffuse::ParameterSchema s;
+    s.choice("face", {"left", "right", "bottom", "top", "front", "back"}).doc("Grid face the liquid enters through");
+    s.number("flux").with_unit("m/s").doc("Darcy flux q entering the body (negative: leaving)");
+    s.number("ramp_time").with_unit("s").at_least(0).fallback(0.0).doc(
+        "Time over which the flux grows linearly from zero (0: at once)");
+    return s;
+  }
+
+  static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters& p, int dim) {
+    if (dim == 2 && (p.string("face") == "front" || p.string("face") == "back"))
+      return {{"face", "no such face in 2D", "one of {left, right, bottom, top}", "\"" + p.string("face") + "\""}};
+    return {};
+  }
+
+  explicit InflowFluxBC(const suffuse::PluginArgs& a)
+      : dim_(a.dim), face_(a.params.string("face")), flux_(a.params.number("flux")),
+        ramp_(a.params.number("ramp_time")) {}
+
+  void setup(const suffuse::GridGeometry& grid) override {
+    const std::string faces[6] = {"left", "right", "bottom", "top", "front", "back"};
+    int f = 0;
+    while (faces[f] != face_) ++f;
+    axis_ = f / 2;
+    inward_ = f % 2 ? -1.0 : 1.0;
+    const int index = f % 2 ? grid.nodes_per_axis()[axis_] - 1 : 0;
+    nodes_.clear();
+    for (std::size_t I = 0; I < grid.node_count(); ++I)
+      if (grid.node_ijk(static_cast<std::int64_t>(I))[axis_] == index) nodes_.push_back(static_cast<std::int64_t>(I));
+  }
+
+  void constrain_velocity(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
+    if (!state.has_liquid()) return;
+    const double q = flux_ * (ramp_ > 0 ? std::min(1.0, time / ramp_) : 1.0);
+    for (std::int64_t I : nodes_) {
+      if (state.liquid_inertia[I] <= 0) continue;
+      const double n = state.liquid_mass[I] / state.liquid_inertia[I];
+      const std::size_t k = static_cast<std::size_t>(I) * dim_ + axis_;
+      state.liquid_velocity[k] = state.velocity[k] + inward_ * q / n;
+    }
+  }
+
+ private:
+  int dim_;
+  std::string face_;
+  double flux_, ramp_;
+  int axis_ = 0;
+  double inward_ = 1;
+  std::vector<std::int64_t> nodes_;
+};
+
+}  // namespace
+
+SUFFUSE_PLUGIN_LIBRARY(registry) {
+  registry.add<suffuse::BoundaryCondition, InflowFluxBC>(
+      "bc/inflow_flux", "Prescribed Darcy flux of the liquid through a grid face (seepage inlet)");
+}
