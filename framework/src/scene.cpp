@@ -388,12 +388,6 @@ class SceneReader {
       }
       scene.bodies.push_back(body);
     }
-    // The saturated step treats every point as saturated (issue 3 scope).
-    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-      if (scene.saturated() && !scene.bodies[i].liquid && bodies[i].is_object())
-        error("/bodies/" + std::to_string(i) + "/liquid", "dry body in a saturated scene",
-              "every body saturated, or none (mixing is not supported yet)", "nothing", "core (body)");
-    }
   }
 
   void read_outputs(Scene& scene) {

@@ -54,7 +54,8 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
     const double ms = pt.mass[p], V = pt.volume[p], n = pt.porosity[p], pr = pt.pressure[p];
     const double rho_l = pt.liquid_density[p];
     const double ml = n * rho_l * V;
-    const double drag = n * rho_l * reference_gravity * V / pt.conductivity[p];
+    // A dry point (n = 0, no liquid) adds no liquid mass, drag or liquid force.
+    const double drag = n > 0 ? n * rho_l * reference_gravity * V / pt.conductivity[p] : 0.0;
     const double* vs = pt.velocity + p * D;
     const double* vl = pt.liquid_velocity + p * D;
     const double* s = pt.stress + p * 6;
@@ -66,7 +67,7 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
       // Inertia (masses, momenta) carries the mass scaling; forces do not.
       out.solid_mass[I] += scale * N * ms;
       out.liquid_mass[I] += scale * N * ml;
-      out.liquid_inertia[I] += scale * N * rho_l * V;
+      if (n > 0) out.liquid_inertia[I] += scale * N * rho_l * V;
       out.drag[I] += N * drag;
       for (int i = 0; i < D; ++i) {
         out.solid_momentum[I * D + i] += scale * N * ms * vs[i];
@@ -74,7 +75,7 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
         double f = N * (ms + ml) * g[i] + V * pr * grad[i];  // total stress = sigma' - p I
         for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
         out.force[I * D + i] += f;
-        out.liquid_force[I * D + i] += N * rho_l * V * g[i] + V * pr * grad[i];
+        if (n > 0) out.liquid_force[I * D + i] += N * rho_l * V * g[i] + V * pr * grad[i];
       }
     }
   }
@@ -134,6 +135,10 @@ void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const
     for (int i = 0; i < D; ++i) div_s += l[i * D + i];
     const double J = step_jacobian<D>(l, dt);
     const double n0 = n[p];
+    if (n0 <= 0) {  // a dry point: no pore pressure, no porosity
+      pressure_rate[p] = 0;
+      continue;
+    }
     pressure_rate[p] = -bulk[p] / n0 * ((1 - n0) * div_s + n0 * div_l);
     n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
     liquid_mass[p] = n[p] * rho_l[p] * volume[p];
@@ -144,19 +149,24 @@ void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const
 // Pressure smoothing, scatter half: volume-weighted nodal pressure rates.
 template <int D>
 void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
-                       const double* volume, const double* rate, double* node_rate, double* node_volume) {
-  for (std::size_t p = begin; p < end; ++p)
+                       const double* volume, const double* n, const double* rate, double* node_rate,
+                       double* node_volume) {
+  for (std::size_t p = begin; p < end; ++p) {
+    if (n[p] <= 0) continue;  // dry points neither give nor take pore pressure
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       node_rate[ids[k]] += w[k] * volume[p] * rate[p];
       node_volume[ids[k]] += w[k] * volume[p];
     }
+  }
 }
 
 // Gather half: each point's pressure grows by the interpolated nodal rate.
 inline void g2p_pressure(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
-                         const double* w, const double* node_rate, const double* node_volume, double* pressure) {
+                         const double* w, const double* node_rate, const double* node_volume, const double* n,
+                         double* pressure) {
   for (std::size_t p = begin; p < end; ++p) {
+    if (n[p] <= 0) continue;  // dry points keep p = 0
     double rate = 0;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
