@@ -13,6 +13,8 @@
 #include <regex>
 #include <sstream>
 
+#include <suffuse/simulation.hpp>
+
 #include "test_support.hpp"
 
 namespace {
@@ -219,6 +221,30 @@ TEST(EndToEnd, SceneReferenceIsUpToDate) {
   ASSERT_EQ(WEXITSTATUS(std::system(command.c_str())), 0);
   EXPECT_EQ(slurp(out / "reference.md"), slurp(suffuse::test::source_dir() / "docs/scene-reference.md"))
       << "regenerate it: ./build/bin/suffuse reference > docs/scene-reference.md";
+}
+
+}  // namespace
+
+namespace {
+
+// Every example scene is valid and takes a few steps without error: the
+// examples cannot drift away from the code.
+TEST(EndToEnd, EveryExampleSceneRuns) {
+  std::size_t count = 0;
+  for (const auto& entry : fs::directory_iterator(suffuse::test::source_dir() / "share/scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    ++count;
+    auto j = suffuse::test::read_json(entry.path());
+    EXPECT_TRUE(j.contains("description") && j["description"].get<std::string>().size() > 80)
+        << entry.path() << " needs a description of what it shows and how to read it";
+    j["outputs"] = nlohmann::json::array();
+    suffuse::Registry registry;
+    const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+    suffuse::Simulation sim(scene, registry);
+    for (int k = 0; k < 3; ++k) sim.step();
+    EXPECT_GT(sim.points().size(), 0u) << entry.path();
+  }
+  EXPECT_GE(count, 6u);
 }
 
 }  // namespace
