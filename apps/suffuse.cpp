@@ -226,11 +226,13 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
     if (scene.mass_scaling != 1)
       std::cout << "  mass scaling " << scene.mass_scaling
                 << ": every inertia is multiplied by it (quasi-static use only)\n";
-    for (const auto& liquid : scene.liquids) {
+    for (std::size_t l = 0; l < scene.liquids.size(); ++l) {
       // A lowered bulk modulus is a numerical choice that changes the physics: say it.
-      const double KL = liquid.liquid.params.has("bulk_modulus") ? liquid.liquid.params.number("bulk_modulus") : 0;
-      std::cout << "  liquid '" << liquid.name << "': bulk modulus " << KL << " Pa"
-                << (KL < 2.2e9 ? " (lower than water's 2.2e9 Pa: a larger time step, a more compressible liquid)" : "")
+      const double KL = sim.liquid(l).bulk_modulus();
+      std::cout << "  liquid '" << scene.liquids[l].name << "': bulk modulus " << KL << " Pa"
+                << (KL < suffuse::water_bulk_modulus
+                        ? " (lower than water's 2.2e9 Pa: a larger time step, a more compressible liquid)"
+                        : "")
                 << "\n";
     }
     if (!scene.outputs.empty())

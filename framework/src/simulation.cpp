@@ -558,7 +558,7 @@ void Simulation::update_stress() {
     targets.add(node_pressure_rate_);
     targets.add(node_volume_);
     scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
-      detail::p2g_pressure_rate<1>(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.volume),
+      detail::p2g_pressure_rate(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.volume),
                                    points_.data(sf_.porosity), points_.data(sf_.pressure_rate), out[0], out[1]);
     });
     for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {

@@ -147,8 +147,7 @@ void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const
 }
 
 // Pressure smoothing, scatter half: volume-weighted nodal pressure rates.
-template <int D>
-void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+inline void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
                        const double* volume, const double* n, const double* rate, double* node_rate,
                        double* node_volume) {
   for (std::size_t p = begin; p < end; ++p) {

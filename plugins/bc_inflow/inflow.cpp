@@ -4,6 +4,7 @@
 // so list it after the constraints of the skeleton on the same face.
 #include <algorithm>
 #include <string>
+#include <suffuse/grid_face.hpp>
 #include <suffuse/plugin.hpp>
 #include <vector>
 
@@ -13,7 +14,7 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
  public:
   static suffuse::ParameterSchema schema() {
     suffuse::ParameterSchema s;
-    s.choice("face", {"left", "right", "bottom", "top", "front", "back"}).doc("Grid face the liquid enters through");
+    s.choice("face", suffuse::grid_face_names()).doc("Grid face the liquid enters through");
     s.number("flux").with_unit("m/s").doc("Darcy flux q entering the body (negative: leaving)");
     s.number("ramp_time").with_unit("s").at_least(0).fallback(0.0).doc(
         "Time over which the flux grows linearly from zero (0: at once)");
@@ -21,25 +22,16 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
   }
 
   static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters& p, int dim) {
-    if (dim == 2 && (p.string("face") == "front" || p.string("face") == "back"))
-      return {{"face", "no such face in 2D", "one of {left, right, bottom, top}", "\"" + p.string("face") + "\""}};
+    if (auto issue = suffuse::grid_face_issue("face", p.string("face"), dim)) return {*issue};
     return {};
   }
 
   explicit InflowFluxBC(const suffuse::PluginArgs& a)
-      : dim_(a.dim), face_(a.params.string("face")), flux_(a.params.number("flux")),
+      : dim_(a.dim), face_(*suffuse::grid_face(a.params.string("face"))), flux_(a.params.number("flux")),
         ramp_(a.params.number("ramp_time")) {}
 
   void setup(const suffuse::GridGeometry& grid) override {
-    const std::string faces[6] = {"left", "right", "bottom", "top", "front", "back"};
-    int f = 0;
-    while (faces[f] != face_) ++f;
-    axis_ = f / 2;
-    inward_ = f % 2 ? -1.0 : 1.0;
-    const int index = f % 2 ? grid.nodes_per_axis()[axis_] - 1 : 0;
-    nodes_.clear();
-    for (std::size_t I = 0; I < grid.node_count(); ++I)
-      if (grid.node_ijk(static_cast<std::int64_t>(I))[axis_] == index) nodes_.push_back(static_cast<std::int64_t>(I));
+    nodes_ = suffuse::face_nodes(grid, face_);
   }
 
   void constrain_velocity(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
@@ -48,17 +40,15 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
     for (std::int64_t I : nodes_) {
       if (state.liquid_inertia[I] <= 0) continue;
       const double n = state.liquid_mass[I] / state.liquid_inertia[I];
-      const std::size_t k = static_cast<std::size_t>(I) * dim_ + axis_;
-      state.liquid_velocity[k] = state.velocity[k] + inward_ * q / n;
+      const std::size_t k = static_cast<std::size_t>(I) * dim_ + face_.axis;
+      state.liquid_velocity[k] = state.velocity[k] - face_.outward() * q / n;  // q enters: against the outward normal
     }
   }
 
  private:
   int dim_;
-  std::string face_;
+  suffuse::GridFace face_;
   double flux_, ramp_;
-  int axis_ = 0;
-  double inward_ = 1;
   std::vector<std::int64_t> nodes_;
 };
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <suffuse/error.hpp>
+#include <suffuse/grid_face.hpp>
 #include <suffuse/plugin.hpp>
 #include <vector>
 
@@ -15,7 +16,7 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
  public:
   static suffuse::ParameterSchema schema() {
     suffuse::ParameterSchema s;
-    s.choice("face", {"left", "right", "bottom", "top", "front", "back"}).doc("Grid face where the pressure acts");
+    s.choice("face", suffuse::grid_face_names()).doc("Grid face where the pressure acts");
     s.number("pressure").with_unit("Pa").may_be_absent().doc("Prescribed pore pressure p, compression positive");
     s.number("head").with_unit("m").may_be_absent().doc(
         "Prescribed hydraulic head h instead of pressure: p = gamma_w (h - elevation), elevation the vertical "
@@ -34,8 +35,7 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
     if (p.has("pressure") == p.has("head"))
       issues.push_back({"", "no unique boundary value", "either \"pressure\" or \"head\"",
                         p.has("pressure") ? "both" : "neither"});
-    if (dim == 2 && (p.string("face") == "front" || p.string("face") == "back"))
-      issues.push_back({"face", "no such face in 2D", "one of {left, right, bottom, top}", "\"" + p.string("face") + "\""});
+    if (auto issue = suffuse::grid_face_issue("face", p.string("face"), dim)) issues.push_back(*issue);
     if (p.has("initial_head") && !p.has("head"))
       issues.push_back({"initial_head", "initial head without head", "\"head\" as well", "only initial_head"});
     return issues;
@@ -44,7 +44,7 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
   explicit PorePressureBC(const suffuse::PluginArgs& a)
       : dim_(a.dim),
         where_(a.instance),
-        face_(a.params.string("face")),
+        face_(*suffuse::grid_face(a.params.string("face"))),
         gamma_(a.params.number("unit_weight")),
         ramp_(a.params.number("ramp_time")) {
     if (a.params.has("pressure")) {
@@ -56,27 +56,19 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
   }
 
   void setup(const suffuse::GridGeometry& grid) override {
-    const std::string faces[6] = {"left", "right", "bottom", "top", "front", "back"};
-    int f = 0;
-    while (faces[f] != face_) ++f;
-    axis_ = f / 2;
-    sign_ = f % 2 ? 1.0 : -1.0;  // outward normal component
-    const int index = f % 2 ? grid.nodes_per_axis()[axis_] - 1 : 0;
-    nodes_.clear();
+    nodes_ = suffuse::face_nodes(grid, face_);
     areas_.clear();
     elevations_.clear();
-    for (std::size_t I = 0; I < grid.node_count(); ++I) {
-      const auto ijk = grid.node_ijk(static_cast<std::int64_t>(I));
-      if (ijk[axis_] != index) continue;
-      double area = 1;
+    for (const std::int64_t I : nodes_) {
+      const auto ijk = grid.node_ijk(I);
+      double area = 1;  // tributary length (2D) or area (3D) of the node on the face
       for (int a = 0; a < dim_; ++a) {
-        if (a == axis_) continue;
+        if (a == face_.axis) continue;
         const bool end = ijk[a] == 0 || ijk[a] == grid.nodes_per_axis()[a] - 1;
         area *= grid.cell_size()[a] * (end ? 0.5 : 1.0);
       }
-      nodes_.push_back(static_cast<std::int64_t>(I));
       areas_.push_back(area);
-      elevations_.push_back(grid.node_position(static_cast<std::int64_t>(I))[dim_ - 1]);
+      elevations_.push_back(grid.node_position(I)[dim_ - 1]);
     }
   }
 
@@ -91,19 +83,18 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
       } else {
         p = r * *pressure_;
       }
-      const double f = -p * sign_ * areas_[k];  // traction -p n
-      state.force[nodes_[k] * dim_ + axis_] += f;
-      state.liquid_force[nodes_[k] * dim_ + axis_] += f;
+      const double f = -p * face_.outward() * areas_[k];  // traction -p n
+      state.force[nodes_[k] * dim_ + face_.axis] += f;
+      state.liquid_force[nodes_[k] * dim_ + face_.axis] += f;
     }
   }
 
  private:
   int dim_;
-  std::string where_, face_;
+  std::string where_;
+  suffuse::GridFace face_;
   double gamma_, ramp_;
   std::optional<double> pressure_, head_, initial_head_;
-  int axis_ = 0;
-  double sign_ = -1;
   std::vector<std::int64_t> nodes_;
   std::vector<double> areas_, elevations_;
 };

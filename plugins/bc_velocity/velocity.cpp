@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <suffuse/error.hpp>
+#include <suffuse/grid_face.hpp>
 #include <suffuse/plugin.hpp>
 #include <vector>
 
@@ -13,7 +14,7 @@ class VelocityBC final : public suffuse::BoundaryCondition {
  public:
   static suffuse::ParameterSchema schema() {
     suffuse::ParameterSchema s;
-    s.choice("face", {"left", "right", "bottom", "top", "front", "back"}).may_be_absent().doc(
+    s.choice("face", suffuse::grid_face_names()).may_be_absent().doc(
         "Grid face whose nodes are constrained: left/right x = min/max, bottom/top y, front/back z (3D)");
     s.vector("box_min").with_unit("m").may_be_absent().doc("Lower corner of a box of constrained nodes (instead of face)");
     s.vector("box_max").with_unit("m").may_be_absent().doc("Upper corner of a box of constrained nodes");
@@ -39,8 +40,8 @@ class VelocityBC final : public suffuse::BoundaryCondition {
     else if (box && !(p.has("box_min") && p.has("box_max")))
       issues.push_back({p.has("box_min") ? "box_max" : "box_min", "missing box corner", "both box_min and box_max",
                         "only one"});
-    if (dim == 2 && p.has("face") && (p.string("face") == "front" || p.string("face") == "back"))
-      issues.push_back({"face", "no such face in 2D", "one of {left, right, bottom, top}", "\"" + p.string("face") + "\""});
+    if (p.has("face"))
+      if (auto issue = suffuse::grid_face_issue("face", p.string("face"), dim)) issues.push_back(*issue);
     if (box && p.has("box_min") && p.has("box_max")) {
       const auto& lo = p.vector("box_min");
       const auto& hi = p.vector("box_max");
@@ -70,23 +71,16 @@ class VelocityBC final : public suffuse::BoundaryCondition {
   }
 
   void setup(const suffuse::GridGeometry& grid) override {
-    nodes_.clear();
-    const auto& n = grid.nodes_per_axis();
-    int axis = -1, index = 0;
     if (!face_.empty()) {
-      const std::string faces[6] = {"left", "right", "bottom", "top", "front", "back"};
-      for (int f = 0; f < 6; ++f)
-        if (faces[f] == face_) axis = f / 2, index = (f % 2) ? n[f / 2] - 1 : 0;
+      nodes_ = suffuse::face_nodes(grid, *suffuse::grid_face(face_));
+      return;
     }
+    nodes_.clear();
     const double tol = 1e-9 * grid.min_cell_size();
     for (std::size_t I = 0; I < grid.node_count(); ++I) {
+      const auto x = grid.node_position(static_cast<std::int64_t>(I));
       bool in = true;
-      if (axis >= 0) {
-        in = grid.node_ijk(static_cast<std::int64_t>(I))[axis] == index;
-      } else {
-        const auto x = grid.node_position(static_cast<std::int64_t>(I));
-        for (int a = 0; a < dim_; ++a) in = in && x[a] >= box_min_[a] - tol && x[a] <= box_max_[a] + tol;
-      }
+      for (int a = 0; a < dim_; ++a) in = in && x[a] >= box_min_[a] - tol && x[a] <= box_max_[a] + tol;
       if (in) nodes_.push_back(static_cast<std::int64_t>(I));
     }
     if (nodes_.empty()) throw suffuse::Error(where_ + ": the box from box_min to box_max contains no grid node (declared by bc/velocity)");

@@ -8,7 +8,7 @@ class PoreLiquid final : public suffuse::Liquid {
   static suffuse::ParameterSchema schema() {
     suffuse::ParameterSchema s;
     s.number("density").with_unit("kg/m^3").above(0).fallback(1000.0).doc("Liquid density rho_L");
-    s.number("bulk_modulus").with_unit("Pa").above(0).fallback(2.2e9).doc(
+    s.number("bulk_modulus").with_unit("Pa").above(0).fallback(suffuse::water_bulk_modulus).doc(
         "Bulk modulus K_L (2.2e9 for water); a lower value gives a larger time step and is reported in the run log");
     s.number("viscosity").with_unit("Pa s").above(0).fallback(1.0e-3).doc("Dynamic viscosity mu");
     return s;

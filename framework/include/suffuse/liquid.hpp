@@ -17,6 +17,10 @@ class Liquid {
 // K = k rho_L g_ref / mu, whatever the scene's gravity.
 inline constexpr double reference_gravity = 9.81;
 
+// Bulk modulus of water [Pa]: the default liquid's, and the value below which
+// a run reports a lowered (numerically softened) liquid.
+inline constexpr double water_bulk_modulus = 2.2e9;
+
 // Hydraulic conductivity of a soil skeleton as a function of its porosity.
 class PermeabilityLaw {
  public:

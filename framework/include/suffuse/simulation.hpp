@@ -70,6 +70,8 @@ class Simulation {
   const GridGeometry& grid() const { return grid_; }
   const NodeState& nodes() const { return nodes_; }
   const StageTimes& stage_times() const { return times_; }
+  // The liquid of /liquids entry `index` (scene order).
+  const Liquid& liquid(std::size_t index) const { return *liquids_[index]; }
 
   double total_mass() const;
   std::array<double, 3> total_momentum() const;

@@ -1,0 +1,29 @@
+#pragma once
+// Named faces of the background grid, for boundary-condition plugins:
+// left/right (x = min/max), bottom/top (y), front/back (z, 3D only).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "suffuse/grid.hpp"
+#include "suffuse/plugin.hpp"
+
+namespace suffuse {
+
+struct GridFace {
+  int axis = 0;        // 0, 1 or 2
+  bool upper = false;  // the max side of the axis
+  double outward() const { return upper ? 1.0 : -1.0; }  // sign of the outward normal
+};
+
+// The six names, in schema order, for a ParameterSchema::choice.
+std::vector<std::string> grid_face_names();
+// The face of a name from grid_face_names(); nothing for another name.
+std::optional<GridFace> grid_face(const std::string& name);
+// For a plugin's check(): front and back do not exist in 2D.
+std::optional<ParameterIssue> grid_face_issue(const std::string& key, const std::string& name, int dim);
+// Indices of the grid nodes on a face, in increasing order.
+std::vector<std::int64_t> face_nodes(const GridGeometry& grid, GridFace face);
+
+}  // namespace suffuse
