@@ -57,6 +57,19 @@ RunSummary Simulation::run(const RunOptions& options) {
     writers_[w]->open(options.output_dir,
                       writers_.size() == 1 ? scene_.name : scene_.name + "_" + std::to_string(w));
   }
+  // Saturated runs: the mass ledger, a row every end/200 s, flushed so that a
+  // run that fails midway leaves the rows written so far.
+  std::ofstream ledger;
+  const double ledger_interval = end / 200;
+  double next_ledger = ledger_interval;
+  if (saturated_ && !options.output_dir.empty()) {
+    std::filesystem::create_directories(options.output_dir);
+    const auto file = options.output_dir / (scene_.name + ".ledger.csv");
+    ledger.open(file);
+    if (!ledger) throw Error("cannot write " + file.string());
+    write_ledger_row(ledger, true);
+    ledger.flush();
+  }
   auto write = [&](std::size_t w) {
     const auto t0 = Clock::now();
     writers_[w]->write(OutputFrame{points_, grid_, step_, time_});
@@ -87,6 +100,11 @@ RunSummary Simulation::run(const RunOptions& options) {
         next[w] = (std::floor((time_ + eps) / interval[w]) + 1) * interval[w];
       }
     }
+    if (ledger.is_open() && (time_ >= next_ledger - eps || time_ >= end)) {
+      write_ledger_row(ledger, false);
+      ledger.flush();
+      next_ledger = (std::floor((time_ + eps) / ledger_interval) + 1) * ledger_interval;
+    }
     if (options.on_step) {
       options.on_step(Progress{step_, time_, end, dt_, points_.size(),
                                std::chrono::duration<double>(Clock::now() - start).count()});
@@ -104,6 +122,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.point_updates_per_second =
       stepping > 0 ? static_cast<double>(summary.steps) * static_cast<double>(summary.points) / stepping : 0.0;
   summary.stages = times_;
+  if (saturated_) summary.ledger = mass_ledger();
   return summary;
 }
 

@@ -70,6 +70,13 @@ std::vector<CoreSection> core_sections() {
     s.number("water_table").with_unit("m").may_be_absent().doc(
         "Elevation of the water table (y in 2D, z in 3D): adds the hydrostatic pore pressure rho_L g (water_table - "
         "elevation) below it, for saturated bodies");
+    s.number("fines_content").with_unit("-").at_least(0).below(1).fallback(0.0).doc(
+        "Initial erodible fines content f_c of a saturated body: volume of fines / volume of solid. Part of the "
+        "solid, so the porosity counts them as solid");
+    s.number("ultimate_fines_content").with_unit("-").at_least(0).below(1).fallback(0.0).doc(
+        "Fines content f_c_inf below which no erosion law can go (at most fines_content)");
+    s.number("concentration").with_unit("-").at_least(0).at_most(1).fallback(0.0).doc(
+        "Initial concentration c of suspended fines in the pore liquid: volume of fines / volume of liquid");
     s.number("k0").with_unit("-").at_least(0).may_be_absent().doc(
         "Adds the geostatic effective stress of the body's own weight below its top (buoyant weight if saturated), "
         "with horizontal stress k0 times the vertical");
@@ -283,9 +290,11 @@ class SceneReader {
       MaterialSpec m;
       m.name = name;
       const std::string ptr = pointer_append("/materials", name);
-      m.phase = plugin_node(node, ptr, PluginKind::Phase, {"permeability"});
+      m.phase = plugin_node(node, ptr, PluginKind::Phase, {"permeability", "erosion"});
       if (node.is_object() && node.contains("permeability"))
         m.permeability = plugin_node(node["permeability"], ptr + "/permeability", PluginKind::PermeabilityLaw, {});
+      if (node.is_object() && node.contains("erosion"))
+        m.erosion = plugin_node(node["erosion"], ptr + "/erosion", PluginKind::ErosionLaw, {});
       scene.materials.push_back(std::move(m));
     }
   }
@@ -299,6 +308,23 @@ class SceneReader {
     }
     for (const auto& [name, node] : liquids.items())
       scene.liquids.push_back({name, plugin_node(node, pointer_append("/liquids", name), PluginKind::Liquid, {})});
+  }
+
+  // Fines belong to saturated bodies: without a liquid there is nothing to carry them.
+  void read_fines(const Parameters& b, const std::string& ptr, BodySpec& body) {
+    auto value = [&](const char* key) { return b.has(key) ? b.number(key) : 0.0; };
+    body.fines_content = value("fines_content");
+    body.ultimate_fines_content = value("ultimate_fines_content");
+    body.concentration = value("concentration");
+    for (const char* key : {"fines_content", "ultimate_fines_content", "concentration"}) {
+      const double v = value(key);
+      if (v != 0 && !b.has("liquid"))
+        error(ptr + "/" + key, "fines in a dry body", "0 without \"liquid\"", format(v), "core (body)");
+    }
+    if (body.ultimate_fines_content > body.fines_content)
+      error(ptr + "/ultimate_fines_content", "ultimate fines content above the initial one",
+            "at most fines_content = " + format(body.fines_content), format(body.ultimate_fines_content),
+            "core (body)");
   }
 
   void read_bodies(Scene& scene) {
@@ -358,6 +384,7 @@ class SceneReader {
                 format(*body.water_table), "core (body)");
       }
       if (b.has("k0")) body.k0 = b.number("k0");
+      read_fines(b, ptr, body);
       if (b.has("stress")) {
         const auto& s = b.vector("stress");
         for (std::size_t c = 0; c < s.size() && c < 6; ++c) body.stress[c] = s[c];

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "suffuse/error.hpp"
+#include "simulation_parallel.hpp"
 #include "two_phase_kernels.hpp"
 
 namespace suffuse {
@@ -159,11 +160,19 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
                                                  m.permeability->type,
                                                  {m.permeability->params, dim, m.permeability->pointer})
                                            : nullptr);
+    erosion_.push_back(m.erosion ? registry.create<ErosionLaw>(m.erosion->type,
+                                                              {m.erosion->params, dim, m.erosion->pointer})
+                                 : nullptr);
   }
   for (const LiquidSpec& l : scene.liquids)
     liquids_.push_back(registry.create<Liquid>(l.liquid.type, {l.liquid.params, dim, l.liquid.pointer}));
   saturated_ = scene.saturated();
-  if (saturated_) add_saturated_fields();
+  fines_ = scene.erodible();
+  for (const BodySpec& b : scene.bodies) fines_ = fines_ || b.fines_content > 0 || b.concentration > 0;
+  if (saturated_) {
+    add_saturated_fields();
+    add_species_fields();
+  }
   for (const PluginNode& bc : scene.boundary_conditions) {
     bcs_.push_back(registry.create<BoundaryCondition>(bc.type, {bc.params, dim, bc.pointer}));
     bcs_.back()->setup(grid_);
@@ -173,6 +182,10 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   nodes_.resize(grid_.node_count(), dim, saturated_);
   if (saturated_) {
     node_drag_.assign(grid_.node_count(), 0.0);
+    for (auto* v : {&node_pore_, &node_volume_all_, &node_liquid_, &node_fines_, &node_out_, &node_dliquid_,
+                    &node_dfines_, &node_free_liquid_, &node_free_fines_})
+      v->assign(grid_.node_count(), 0.0);
+    setup_openings();
   }
   // Threads other than the first scatter into their own copy of the nodal
   // arrays, summed in thread order afterwards: no atomics, and the same
@@ -181,32 +194,17 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   scatter_.assign(threads_ - 1, std::vector<double>(grid_.node_count() * per_node));
   chunk_errors_.resize(threads_);
   create_points();
+  if (saturated_) {
+    flux_magnitude_.assign(points_.size(), 0.0);
+    const MassLedger start = mass_ledger();
+    initial_solid_ = start.solid;
+    initial_liquid_ = start.liquid;
+    initial_fines_ = start.skeleton_fines + start.suspended_fines;
+  }
   dt_ = scene.dt ? *scene.dt : critical_time_step();
 }
 
 Simulation::~Simulation() = default;
-
-template <class Body>
-void Simulation::for_chunks(std::size_t n, Body&& body) {
-  if (threads_ == 1) {
-    body(0, std::size_t{0}, n);
-    return;
-  }
-  // One contiguous chunk per thread; an exception in any chunk is rethrown
-  // here, after every thread has finished.
-  std::vector<std::exception_ptr>& errors = chunk_errors_;
-  std::fill(errors.begin(), errors.end(), nullptr);
-#pragma omp parallel for num_threads(threads_) schedule(static, 1)
-  for (int t = 0; t < threads_; ++t) {
-    try {
-      body(t, n * t / threads_, n * (t + 1) / threads_);
-    } catch (...) {
-      errors[t] = std::current_exception();
-    }
-  }
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
-}
 
 void Simulation::add_saturated_fields() {
   using K = FieldKind;
@@ -297,11 +295,10 @@ void Simulation::create_points() {
       for (std::size_t q = range.begin; q < range.end; ++q) {
         points_.data(sf_.porosity)[q] = body.porosity;
         points_.data(sf_.pressure)[q] = body.pore_pressure;
-        points_.data(sf_.liquid_density)[q] = liquid.density();
         points_.data(sf_.bulk_modulus)[q] = liquid.bulk_modulus();
-        points_.data(sf_.liquid_mass)[q] = body.porosity * liquid.density() * volume;
         for (int a = 0; a < dim; ++a) points_.data(sf_.liquid_velocity)[q * dim + a] = body.velocity[a];
       }
+      set_species_state(body, range);
       update_conductivity(ranges_.back());
     }
     set_geostatic_state(body, range);
@@ -382,34 +379,6 @@ void Simulation::reset_grid() {
     std::fill(v->begin(), v->end(), 0.0);
 }
 
-template <class Kernel>
-void Simulation::scatter(const ScatterTargets& targets, Kernel&& kernel) {
-  for_chunks(points_.size(), [&](int t, std::size_t b, std::size_t e) {
-    if (t == 0) {
-      kernel(b, e, targets.array.data());
-      return;
-    }
-    std::array<double*, 8> mine{};
-    double* next = scatter_[t - 1].data();
-    for (int k = 0; k < targets.count; ++k) {
-      mine[k] = next;
-      std::fill(next, next + targets.size[k], 0.0);
-      next += targets.size[k];
-    }
-    kernel(b, e, mine.data());
-  });
-  if (scatter_.empty()) return;
-  // Sum the private buffers into the node arrays, in thread order.
-  for (int k = 0; k < targets.count; ++k) {
-    std::size_t offset = 0;
-    for (int j = 0; j < k; ++j) offset += targets.size[j];
-    for_chunks(targets.size[k], [&](int, std::size_t b, std::size_t e) {
-      for (const std::vector<double>& buffer : scatter_)
-        for (std::size_t i = b; i < e; ++i) targets.array[k][i] += buffer[offset + i];
-    });
-  }
-}
-
 void Simulation::points_to_grid() {
   StageTimer t(times_.p2g);
   if (saturated_) return points_to_grid_saturated();
@@ -432,7 +401,7 @@ void Simulation::points_to_grid_saturated() {
   const detail::SaturatedPoints pt{points_.data(f.mass),           points_.data(f.volume),
                                    points_.data(f.velocity),       points_.data(f.stress),
                                    points_.data(sf_.porosity),     points_.data(sf_.pressure),
-                                   points_.data(sf_.liquid_velocity), points_.data(sf_.liquid_density),
+                                   points_.data(sf_.liquid_velocity), points_.data(sf_.liquid_mass),
                                    points_.data(sf_.conductivity)};
   ScatterTargets targets;
   targets.add(nodes_.mass);
@@ -544,9 +513,8 @@ void Simulation::update_stress() {
     auto porous = scene_.dim == 2 ? &detail::porous_update<2> : &detail::porous_update<3>;
     for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
       porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(), nodes_.liquid_velocity.data(),
-             points_.data(f.velocity_gradient), points_.data(sf_.bulk_modulus), points_.data(sf_.liquid_density),
-             points_.data(f.volume), points_.data(f.velocity), points_.data(sf_.liquid_velocity),
-             points_.data(sf_.porosity), points_.data(sf_.pressure_rate), points_.data(sf_.liquid_mass),
+             points_.data(f.velocity_gradient), points_.data(sf_.bulk_modulus), points_.data(f.velocity),
+             points_.data(sf_.liquid_velocity), points_.data(sf_.porosity), points_.data(sf_.pressure_rate),
              points_.data(sf_.darcy_flux));
     });
     // Pressure smoothing: the pore-pressure rate is averaged over the nodes
@@ -571,7 +539,6 @@ void Simulation::update_stress() {
     for_chunks(r.range.size(), [&](int, std::size_t b, std::size_t e) {
       phases_[r.material]->update_stress(points_, {r.range.begin + b, r.range.begin + e}, dt_);
     });
-    if (r.saturated) update_conductivity(r);
   }
 }
 
@@ -584,6 +551,11 @@ void Simulation::step() {
   grid_to_points();
   remap_momentum();
   update_stress();
+  if (saturated_) {
+    erode();                // skeleton -> liquid, at the points
+    update_permeability();  // K follows the porosity
+    transport_liquid();     // liquid and suspended fines cross the grid with the Darcy flux
+  }
   time_ += dt_;
   ++step_;
 }

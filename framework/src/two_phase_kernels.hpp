@@ -42,7 +42,7 @@ struct SaturatedNodes {
 };
 
 struct SaturatedPoints {
-  const double *mass, *volume, *velocity, *stress, *porosity, *pressure, *liquid_velocity, *liquid_density,
+  const double *mass, *volume, *velocity, *stress, *porosity, *pressure, *liquid_velocity, *liquid_mass,
       *conductivity;
 };
 
@@ -52,10 +52,12 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
                    const SaturatedNodes& out) {
   for (std::size_t p = begin; p < end; ++p) {
     const double ms = pt.mass[p], V = pt.volume[p], n = pt.porosity[p], pr = pt.pressure[p];
-    const double rho_l = pt.liquid_density[p];
-    const double ml = n * rho_l * V;
+    // The liquid's mass is its own state (transported, eroded into); its
+    // intrinsic density times the volume is m_L / n.
+    const double ml = n > 0 ? pt.liquid_mass[p] : 0.0;
+    const double rho_l_V = n > 0 ? ml / n : 0.0;
     // A dry point (n = 0, no liquid) adds no liquid mass, drag or liquid force.
-    const double drag = n > 0 ? n * rho_l * reference_gravity * V / pt.conductivity[p] : 0.0;
+    const double drag = n > 0 ? ml * reference_gravity / pt.conductivity[p] : 0.0;
     const double* vs = pt.velocity + p * D;
     const double* vl = pt.liquid_velocity + p * D;
     const double* s = pt.stress + p * 6;
@@ -67,7 +69,7 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
       // Inertia (masses, momenta) carries the mass scaling; forces do not.
       out.solid_mass[I] += scale * N * ms;
       out.liquid_mass[I] += scale * N * ml;
-      if (n > 0) out.liquid_inertia[I] += scale * N * rho_l * V;
+      if (n > 0) out.liquid_inertia[I] += scale * N * rho_l_V;
       out.drag[I] += N * drag;
       for (int i = 0; i < D; ++i) {
         out.solid_momentum[I * D + i] += scale * N * ms * vs[i];
@@ -75,7 +77,7 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
         double f = N * (ms + ml) * g[i] + V * pr * grad[i];  // total stress = sigma' - p I
         for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
         out.force[I * D + i] += f;
-        if (n > 0) out.liquid_force[I * D + i] += N * rho_l * V * g[i] + V * pr * grad[i];
+        if (n > 0) out.liquid_force[I * D + i] += N * rho_l_V * g[i] + V * pr * grad[i];
       }
     }
   }
@@ -118,12 +120,11 @@ void g2p_liquid(std::size_t begin, std::size_t end, int npp, double dt, const st
 }
 
 // After the skeleton's velocity gradient L (field) and volume are updated:
-// pore pressure, porosity, liquid mass and Darcy flux.
+// pore pressure rate, porosity and Darcy flux.
 template <int D>
 void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
-                   const double* node_vl, const double* L, const double* bulk, const double* rho_l,
-                   const double* volume, const double* vs, const double* vl, double* n, double* pressure_rate,
-                   double* liquid_mass, double* darcy) {
+                   const double* node_vl, const double* L, const double* bulk, const double* vs,
+                   const double* vl, double* n, double* pressure_rate, double* darcy) {
   for (std::size_t p = begin; p < end; ++p) {
     double div_l = 0;
     for (int a = 0; a < npp; ++a) {
@@ -141,7 +142,6 @@ void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const
     }
     pressure_rate[p] = -bulk[p] / n0 * ((1 - n0) * div_s + n0 * div_l);
     n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
-    liquid_mass[p] = n[p] * rho_l[p] * volume[p];
     for (int i = 0; i < D; ++i) darcy[p * D + i] = n[p] * (vl[p * D + i] - vs[p * D + i]);
   }
 }

@@ -18,6 +18,9 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
     s.number("flux").with_unit("m/s").doc("Darcy flux q entering the body (negative: leaving)");
     s.number("ramp_time").with_unit("s").at_least(0).fallback(0.0).doc(
         "Time over which the flux grows linearly from zero (0: at once)");
+    s.number("concentration").with_unit("-").at_least(0).at_most(1).fallback(0.0).doc(
+        "Concentration of suspended fines (volume / liquid volume) in the liquid entering through the face; the "
+        "face is open to the liquid and its fines either way");
     return s;
   }
 
@@ -28,7 +31,10 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
 
   explicit InflowFluxBC(const suffuse::PluginArgs& a)
       : dim_(a.dim), face_(*suffuse::grid_face(a.params.string("face"))), flux_(a.params.number("flux")),
-        ramp_(a.params.number("ramp_time")) {}
+        ramp_(a.params.number("ramp_time")),
+        concentration_(a.params.number("concentration")) {}
+
+  std::vector<suffuse::LiquidOpening> liquid_openings() const override { return {{face_, concentration_}}; }
 
   void setup(const suffuse::GridGeometry& grid) override {
     nodes_ = suffuse::face_nodes(grid, face_);
@@ -49,6 +55,7 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
   int dim_;
   suffuse::GridFace face_;
   double flux_, ramp_;
+  double concentration_;
   std::vector<std::int64_t> nodes_;
 };
 

@@ -27,6 +27,9 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
         "Time over which the pressure grows linearly from its initial value on the face (0: at once)");
     s.number("initial_head").with_unit("m").may_be_absent().doc(
         "Head at the start of the ramp (default: the prescribed head, i.e. no ramp of the head)");
+    s.number("concentration").with_unit("-").at_least(0).at_most(1).fallback(0.0).doc(
+        "Concentration of suspended fines (volume / liquid volume) in the liquid entering through the face; the "
+        "face is open to the liquid and its fines either way");
     return s;
   }
 
@@ -46,7 +49,8 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
         where_(a.instance),
         face_(*suffuse::grid_face(a.params.string("face"))),
         gamma_(a.params.number("unit_weight")),
-        ramp_(a.params.number("ramp_time")) {
+        ramp_(a.params.number("ramp_time")),
+        concentration_(a.params.number("concentration")) {
     if (a.params.has("pressure")) {
       pressure_ = a.params.number("pressure");
     } else {
@@ -54,6 +58,8 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
       initial_head_ = a.params.has("initial_head") ? a.params.number("initial_head") : *head_;
     }
   }
+
+  std::vector<suffuse::LiquidOpening> liquid_openings() const override { return {{face_, concentration_}}; }
 
   void setup(const suffuse::GridGeometry& grid) override {
     nodes_ = suffuse::face_nodes(grid, face_);
@@ -95,6 +101,7 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
   suffuse::GridFace face_;
   double gamma_, ramp_;
   std::optional<double> pressure_, head_, initial_head_;
+  double concentration_;
   std::vector<std::int64_t> nodes_;
   std::vector<double> areas_, elevations_;
 };

@@ -1,8 +1,18 @@
 #pragma once
 // Boundary conditions act on sets of grid nodes at named stages of the step.
+#include <vector>
+
 #include "suffuse/grid.hpp"
 
 namespace suffuse {
+
+// A grid face the pore liquid may cross (a drained face, a seepage inlet or
+// outlet). Every other boundary is impermeable to the transport of the liquid
+// and its suspended fines. Liquid entering carries `concentration` of fines.
+struct LiquidOpening {
+  GridFace face;
+  double concentration = 0;  // volume of fines / volume of liquid entering [-]
+};
 
 class BoundaryCondition {
  public:
@@ -20,6 +30,8 @@ class BoundaryCondition {
   virtual void constrain_velocity(const GridGeometry& grid, NodeState& nodes, double time) const {
     (void)grid; (void)nodes; (void)time;
   }
+  // The faces this condition opens to the liquid (default: none).
+  virtual std::vector<LiquidOpening> liquid_openings() const { return {}; }
 };
 
 }  // namespace suffuse

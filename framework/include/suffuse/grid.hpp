@@ -37,6 +37,13 @@ class GridGeometry {
   std::size_t node_count_;
 };
 
+// A face of the grid box: left/right (x = min/max), bottom/top (y), front/back (z).
+struct GridFace {
+  int axis = 0;        // 0, 1 or 2
+  bool upper = false;  // the max side of the axis
+  double outward() const { return upper ? 1.0 : -1.0; }  // sign of the outward normal
+};
+
 // Nodal state of one time step (structure-of-arrays, vectors interleaved by dim).
 struct NodeState {
   std::vector<double> mass;      // [kg]

@@ -11,12 +11,6 @@
 
 namespace suffuse {
 
-struct GridFace {
-  int axis = 0;        // 0, 1 or 2
-  bool upper = false;  // the max side of the axis
-  double outward() const { return upper ? 1.0 : -1.0; }  // sign of the outward normal
-};
-
 // The six names, in schema order, for a ParameterSchema::choice.
 std::vector<std::string> grid_face_names();
 // The face of a name from grid_face_names(); nothing for another name.

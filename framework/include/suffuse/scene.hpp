@@ -25,6 +25,7 @@ struct MaterialSpec {
   std::string name;
   PluginNode phase;
   std::optional<PluginNode> permeability;  // required when a saturated body uses it
+  std::optional<PluginNode> erosion;       // an erosion law: the skeleton's fines can be washed out
 };
 
 struct LiquidSpec {
@@ -44,6 +45,9 @@ struct BodySpec {
   double pore_pressure = 0;           // initial, saturated bodies only
   std::optional<double> water_table;  // hydrostatic initial pore pressure below it
   std::optional<double> k0;           // geostatic initial effective stress
+  double fines_content = 0;           // f_c: erodible fines / solid volume, initial [-]
+  double ultimate_fines_content = 0;  // f_c_inf: the part of f_c that never erodes [-]
+  double concentration = 0;           // c: suspended fines / pore liquid volume, initial [-]
 };
 
 struct OutputSpec {
@@ -71,6 +75,11 @@ struct Scene {
   double mass_scaling = 1;  // inertia factor for quasi-static runs
   std::vector<OutputSpec> outputs;
 
+  bool erodible() const {
+    for (const MaterialSpec& m : materials)
+      if (m.erosion) return true;
+    return false;
+  }
   bool saturated() const {
     for (const BodySpec& b : bodies)
       if (b.liquid) return true;

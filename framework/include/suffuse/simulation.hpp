@@ -8,7 +8,9 @@
 #include <exception>
 #include <filesystem>
 #include <functional>
+#include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,7 +23,8 @@ namespace suffuse {
 
 // Wall time spent in each stage of the step, for the run summary.
 struct StageTimes {
-  double shape = 0, reset = 0, p2g = 0, grid_update = 0, g2p = 0, remap = 0, stress = 0, output = 0;
+  double shape = 0, reset = 0, p2g = 0, grid_update = 0, g2p = 0, remap = 0, stress = 0, erosion = 0,
+         transport = 0, output = 0;
 };
 
 struct Progress {
@@ -36,6 +39,32 @@ struct RunOptions {
   std::function<void(const Progress&)> on_step;  // called after every step (may be empty)
 };
 
+// What crossed one open face of the grid (a LiquidOpening), cumulative [kg].
+struct BoundaryDischarge {
+  std::string face;
+  double liquid_out = 0, liquid_in = 0;  // pore liquid, suspended fines included
+  double fines_out = 0, fines_in = 0;    // suspended fines
+};
+
+// Mass of every species of a saturated run, in kg (per metre of thickness in
+// 2D). Each balance is: what there was + what came in = what is there + what left.
+struct MassLedger {
+  double time = 0;
+  double initial_solid = 0, initial_liquid = 0, initial_fines = 0;
+  double solid = 0;            // skeleton, its fines included
+  double skeleton_fines = 0;   // erodible fines still in the skeleton
+  double suspended_fines = 0;  // fines carried by the pore liquid
+  double liquid = 0;           // pore liquid, suspended fines included
+  double eroded = 0;           // solid moved from skeleton to liquid, net of deposition
+  std::vector<BoundaryDischarge> boundaries;
+
+  double fines_discharged() const;
+  // Relative imbalances: |in - there - out| / in (0 when nothing came in).
+  double solid_imbalance() const;
+  double liquid_imbalance() const;
+  double fines_imbalance() const;
+};
+
 struct RunSummary {
   std::size_t steps = 0;
   std::size_t points = 0;
@@ -43,6 +72,7 @@ struct RunSummary {
   double wall_seconds = 0;
   double point_updates_per_second = 0;
   StageTimes stages;
+  std::optional<MassLedger> ledger;  // saturated runs: the final balance
 };
 
 class Simulation {
@@ -74,6 +104,9 @@ class Simulation {
   const Liquid& liquid(std::size_t index) const { return *liquids_[index]; }
 
   double total_mass() const;
+  // Saturated runs: the mass of every species now (throws in dry runs).
+  MassLedger mass_ledger() const;
+  bool has_fines() const { return fines_; }
   std::array<double, 3> total_momentum() const;
   // The automatic time step: cfl * h_min / max over materials of sqrt(M / rho).
   double critical_time_step() const;
@@ -100,6 +133,10 @@ class Simulation {
   void update_grid_saturated();
   void update_conductivity(const MaterialRange& r);
   void set_geostatic_state(const BodySpec& body, PointRange range);
+  void add_species_fields();
+  void set_species_state(const BodySpec& body, PointRange range);
+  void setup_openings();
+  void write_ledger_row(std::ostream& out, bool header) const;
 
   void create_points();
   void write_run_info(const std::filesystem::path& file) const;
@@ -112,6 +149,9 @@ class Simulation {
   void grid_to_points();
   void remap_momentum();
   void update_stress();
+  void erode();
+  void update_permeability();
+  void transport_liquid();
   void constrain_velocity();
   // Calls body(thread, begin, end) on threads() contiguous chunks of [0, n).
   template <class Body>
@@ -140,6 +180,29 @@ class Simulation {
   } sf_{};
   std::vector<double> node_drag_, node_pressure_rate_, node_volume_;
   std::vector<MaterialRange> ranges_;
+
+  // Species (liquid, fines) of saturated runs: docs/erosion.md.
+  bool fines_ = false;  // some body carries erodible or suspended fines
+  struct SpeciesFields {
+    FieldId skeleton_fines, suspended_fines, eroded_mass, fines_content, ultimate_fines_content, concentration,
+        eroded_fraction, erosion_rate, hydraulic_gradient, grain_density;
+  } ef_{};
+  std::vector<std::unique_ptr<ErosionLaw>> erosion_;  // per material, may be null
+  std::vector<double> flux_magnitude_;                // per point, scratch of the erosion stage
+  struct OpeningNode {
+    std::int64_t node;
+    double area;
+  };
+  struct Opening {
+    GridFace face;
+    double concentration = 0, grain_density = 0, water_density = 0;  // of the liquid entering
+    std::vector<OpeningNode> nodes;
+  };
+  std::vector<Opening> openings_;
+  std::vector<BoundaryDischarge> discharge_;  // per opening, cumulative
+  double initial_solid_ = 0, initial_liquid_ = 0, initial_fines_ = 0;
+  std::vector<double> node_pore_, node_volume_all_, node_liquid_, node_fines_, node_out_, node_dliquid_,
+      node_dfines_, node_free_liquid_, node_free_fines_;
   std::vector<std::string> body_names_;
   std::vector<PointRange> body_ranges_;
 

@@ -1,0 +1,227 @@
+#pragma once
+// Kernels of the species balances of a saturated run (docs/erosion.md):
+// erosion moves solid from the skeleton to the liquid at the points; the
+// liquid and its suspended fines then move across the grid with the Darcy
+// flux, by a first-order upwind finite-volume scheme on the dual cells of the
+// nodes. Every exchange is a transfer between two accounts, so the mass of
+// each species is conserved to round-off.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace suffuse::detail {
+
+// Per-point state of the species, spans of the point count.
+struct SpeciesPoints {
+  double* solid_mass;       // the skeleton's solid, its fines included [kg]
+  double* skeleton_fines;   // erodible fines still in the skeleton [kg]
+  double* suspended_fines;  // fines carried by the pore liquid [kg]
+  double* liquid_mass;      // pore liquid, suspended fines included [kg]
+  double* eroded_mass;      // solid this point has lost to the liquid, net [kg]
+  const double* volume;
+  double* porosity;
+  const double* grain_density;  // rho_s
+};
+
+// Applies the rates n_e [1/s] of a law to points [begin, end): moves
+// rho_s n_e V dt from skeleton to liquid, limited so that f_c >= f_c_inf and
+// no point deposits more fines than it carries. Overwrites `rate` with the
+// rate actually applied.
+inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const SpeciesPoints& pt,
+                          const double* ultimate_fines, double* rate) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const double rho_s = pt.grain_density[p], V = pt.volume[p];
+    const double ms = pt.solid_mass[p], fines = pt.skeleton_fines[p], f_inf = ultimate_fines[p];
+    double moved = rho_s * rate[p] * V * dt;
+    if (moved > 0) {
+      // (fines - moved) / (ms - moved) >= f_inf
+      moved = std::min(moved, std::max(0.0, (fines - f_inf * ms) / (1 - f_inf)));
+    } else {
+      moved = std::max(moved, -pt.suspended_fines[p]);
+    }
+    pt.solid_mass[p] = ms - moved;
+    pt.skeleton_fines[p] = fines - moved;
+    pt.suspended_fines[p] += moved;
+    pt.liquid_mass[p] += moved;
+    pt.eroded_mass[p] += moved;
+    pt.porosity[p] += moved / (rho_s * V);
+    rate[p] = moved / (rho_s * V * dt);
+  }
+}
+
+// Scatter: pore volume, volume, liquid and suspended fines of the nodes.
+inline void p2g_species(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+                        const double* volume, const double* n, const double* liquid, const double* fines,
+                        double* node_pore, double* node_volume, double* node_liquid, double* node_fines) {
+  for (std::size_t p = begin; p < end; ++p) {
+    if (n[p] <= 0) continue;  // a dry point holds no liquid
+    const double pore = n[p] * volume[p];
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      node_pore[I] += w[k] * pore;
+      node_volume[I] += w[k] * volume[p];
+      node_liquid[I] += w[k] * liquid[p];
+      if (fines) node_fines[I] += w[k] * fines[p];
+    }
+  }
+}
+
+// The grid the transport runs on: nodal amounts and velocities.
+struct TransportGrid {
+  std::array<int, 3> nodes;   // per axis
+  std::array<double, 3> h;    // cell size
+  double dt;
+  const double* pore;         // sum N n V [m^3]
+  const double* volume;       // sum N V
+  const double* liquid;       // sum N m_L [kg]
+  const double* fines;        // sum N m_f [kg], may be null
+  const double* solid_velocity;
+  const double* liquid_velocity;
+};
+
+template <int D>
+struct Transport {
+  const TransportGrid& g;
+
+  std::array<int, 3> ijk(std::int64_t I) const {
+    std::array<int, 3> c{0, 0, 0};
+    c[0] = static_cast<int>(I % g.nodes[0]);
+    if (D > 1) c[1] = static_cast<int>((I / g.nodes[0]) % g.nodes[1]);
+    if (D > 2) c[2] = static_cast<int>(I / (static_cast<std::int64_t>(g.nodes[0]) * g.nodes[1]));
+    return c;
+  }
+  std::int64_t stride(int a) const {
+    return a == 0 ? 1 : (a == 1 ? g.nodes[0] : static_cast<std::int64_t>(g.nodes[0]) * g.nodes[1]);
+  }
+  // Area of the dual-cell face normal to axis a at a node (halved at grid edges).
+  double face_area(const std::array<int, 3>& c, int a) const {
+    double area = 1;
+    for (int b = 0; b < D; ++b)
+      if (b != a) area *= g.h[b] * ((c[b] == 0 || c[b] == g.nodes[b] - 1) ? 0.5 : 1.0);
+    return area;
+  }
+  // Darcy flux component a at node I: n_I (v_L - v_s).
+  double darcy(std::int64_t I, int a) const {
+    if (g.pore[I] <= 0) return 0.0;
+    return g.pore[I] / g.volume[I] * (g.liquid_velocity[I * D + a] - g.solid_velocity[I * D + a]);
+  }
+  // Volume of liquid crossing the face between I and I + e_a in one step,
+  // positive towards I + e_a. Zero unless both nodes hold liquid.
+  double face_volume(std::int64_t I, int a, const std::array<int, 3>& c) const {
+    const std::int64_t J = I + stride(a);
+    if (g.pore[I] <= 0 || g.pore[J] <= 0) return 0.0;
+    return g.dt * face_area(c, a) * 0.5 * (darcy(I, a) + darcy(J, a));
+  }
+
+  // A free surface is a face between a node with liquid and a grid node
+  // without: the weak form leaves p = 0 there (drained), so liquid may leave
+  // but none enters. Volume leaving node I through its free-surface faces.
+  double free_surface_volume(std::int64_t I, const std::array<int, 3>& c) const {
+    if (g.pore[I] <= 0) return 0.0;
+    double sum = 0;
+    for (int a = 0; a < D; ++a) {
+      if (c[a] < g.nodes[a] - 1 && g.pore[I + stride(a)] <= 0)
+        sum += std::max(0.0, g.dt * face_area(c, a) * darcy(I, a));
+      if (c[a] > 0 && g.pore[I - stride(a)] <= 0) sum += std::max(0.0, -g.dt * face_area(c, a) * darcy(I, a));
+    }
+    return sum;
+  }
+
+  // Pass 1: volume leaving each node through its interior and free-surface faces.
+  void outflow(std::size_t begin, std::size_t end, double* out) const {
+    for (std::size_t I = begin; I < end; ++I) {
+      const auto c = ijk(static_cast<std::int64_t>(I));
+      double sum = 0;
+      for (int a = 0; a < D; ++a) {
+        if (c[a] < g.nodes[a] - 1) sum += std::max(0.0, face_volume(static_cast<std::int64_t>(I), a, c));
+        if (c[a] > 0) {
+          auto below = c;
+          --below[a];
+          sum += std::max(0.0, -face_volume(static_cast<std::int64_t>(I) - stride(a), a, below));
+        }
+      }
+      out[I] = sum + free_surface_volume(static_cast<std::int64_t>(I), c);
+    }
+  }
+
+  // Share of its content a node may send this step: 1, or less when the
+  // outflow would exceed its pore volume (keeps every amount non-negative).
+  double scale(std::int64_t I, const double* out) const {
+    return out[I] > g.pore[I] ? g.pore[I] / out[I] : 1.0;
+  }
+
+  // Upwind amount of a per-pore-volume quantity `amount` crossing the face
+  // between I and I + e_a. Both nodes of a face compute the same bits.
+  double face_transfer(std::int64_t I, int a, const std::array<int, 3>& c, const double* amount,
+                       const double* out) const {
+    const double vol = face_volume(I, a, c);
+    const std::int64_t from = vol > 0 ? I : I + stride(a);
+    if (vol == 0 || amount[from] <= 0) return 0.0;
+    return scale(from, out) * vol * amount[from] / g.pore[from];
+  }
+
+  // Pass 2: net change of liquid and fines at each node from its interior faces.
+  // Also writes what each node loses through free surfaces.
+  void exchange(std::size_t begin, std::size_t end, const double* out, double* d_liquid, double* d_fines,
+                double* free_liquid, double* free_fines) const {
+    for (std::size_t n = begin; n < end; ++n) {
+      const auto I = static_cast<std::int64_t>(n);
+      const auto c = ijk(I);
+      double dl = 0, df = 0;
+      for (int a = 0; a < D; ++a) {
+        if (c[a] < g.nodes[a] - 1) {
+          dl -= face_transfer(I, a, c, g.liquid, out);
+          if (g.fines) df -= face_transfer(I, a, c, g.fines, out);
+        }
+        if (c[a] > 0) {
+          auto below = c;
+          --below[a];
+          dl += face_transfer(I - stride(a), a, below, g.liquid, out);
+          if (g.fines) df += face_transfer(I - stride(a), a, below, g.fines, out);
+        }
+      }
+      // Free-surface outflow: what the node sends out of the liquid region.
+      const double free = free_surface_volume(I, c);
+      if (free > 0) {
+        const double share = scale(I, out) * free / g.pore[I];
+        free_liquid[n] = share * g.liquid[I];
+        free_fines[n] = g.fines ? share * g.fines[I] : 0.0;
+        dl -= free_liquid[n];
+        df -= free_fines[n];
+      } else {
+        free_liquid[n] = free_fines[n] = 0;
+      }
+      d_liquid[n] = dl;
+      d_fines[n] = df;
+    }
+  }
+};
+
+// Gather: each point takes its share of the nodal changes. Losses are shared
+// in proportion to what the points hold, gains in proportion to their pore
+// volume, so the shares of a node add up to its change exactly.
+inline void g2p_share(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+                      const double* volume, const double* n, const double* node_pore, const double* node_amount,
+                      const double* node_change, double* amount) {
+  for (std::size_t p = begin; p < end; ++p) {
+    if (n[p] <= 0) continue;
+    const double pore = n[p] * volume[p];
+    double change = 0;
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      const double d = node_change[I];
+      if (d < 0) {
+        if (node_amount[I] > 0) change += w[k] * amount[p] * (d / node_amount[I]);
+      } else if (d > 0) {
+        change += w[k] * pore * (d / node_pore[I]);
+      }
+    }
+    amount[p] += change;
+  }
+}
+
+}  // namespace suffuse::detail
