@@ -3,6 +3,7 @@
 // the mass ledger. Formulation and verification: docs/erosion.md.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <ostream>
 
 #include "simulation_parallel.hpp"
@@ -95,6 +96,8 @@ void Simulation::setup_openings() {
   for (const BodySpec& b : scene_.bodies)
     if (b.liquid && rho_w == 0) rho_s = phases_[b.material]->density(), rho_w = liquids_[*b.liquid]->density();
   const int dim = scene_.dim;
+  inflow_liquid_.assign(grid_.node_count() * dim, std::numeric_limits<double>::quiet_NaN());
+  inflow_fines_ = inflow_liquid_;
   for (const auto& bc : bcs_) {
     for (const LiquidOpening& o : bc->liquid_openings()) {
       Opening opening{o.face, o.concentration, rho_s, rho_w, {}};
@@ -107,6 +110,11 @@ void Simulation::setup_openings() {
           area *= grid_.cell_size()[a] * (edge ? 0.5 : 1.0);
         }
         opening.nodes.push_back({I, area});
+      }
+      for (const OpeningNode& on : opening.nodes) {
+        const std::size_t k = static_cast<std::size_t>(on.node) * dim + o.face.axis;
+        inflow_liquid_[k] = o.concentration * rho_s + (1 - o.concentration) * rho_w;
+        inflow_fines_[k] = o.concentration * rho_s;
       }
       static const char* names[3][2] = {{"left", "right"}, {"bottom", "top"}, {"front", "back"}};
       discharge_.push_back({names[o.face.axis][o.face.upper ? 1 : 0], 0, 0, 0, 0});
@@ -188,7 +196,8 @@ void Simulation::transport_liquid() {
   const detail::TransportGrid g{grid_.nodes_per_axis(), grid_.cell_size(),  dt_,
                                 node_pore_.data(),      node_volume_all_.data(), node_liquid_.data(),
                                 fines_ ? node_fines_.data() : nullptr, nodes_.velocity.data(),
-                                nodes_.liquid_velocity.data()};
+                                nodes_.liquid_velocity.data(),  inflow_liquid_.data(),
+                                inflow_fines_.data()};
   const std::size_t nn = grid_.node_count();
   auto run = [&](auto transport) {
     for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });

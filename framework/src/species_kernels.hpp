@@ -2,14 +2,15 @@
 // Kernels of the species balances of a saturated run (docs/erosion.md):
 // erosion moves solid from the skeleton to the liquid at the points; the
 // liquid and its suspended fines then move across the grid with the Darcy
-// flux, by a first-order upwind finite-volume scheme on the dual cells of the
-// nodes. Every exchange is a transfer between two accounts, so the mass of
+// flux, by a finite-volume scheme on the dual cells of the nodes (MUSCL with
+// the van Leer limiter). Every exchange is a transfer between two accounts, so the mass of
 // each species is conserved to round-off.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 namespace suffuse::detail {
 
@@ -80,6 +81,10 @@ struct TransportGrid {
   const double* fines;        // sum N m_f [kg], may be null
   const double* solid_velocity;
   const double* liquid_velocity;
+  // Per node and axis (node * D + axis): the liquid and fines per volume
+  // entering through an open grid face at that node; NaN elsewhere.
+  const double* inflow_liquid;
+  const double* inflow_fines;
 };
 
 template <int D>
@@ -148,19 +153,41 @@ struct Transport {
   }
 
   // Share of its content a node may send this step: 1, or less when the
-  // outflow would exceed its pore volume (keeps every amount non-negative).
+  // outflow would exceed half its pore volume. The limited face value is at
+  // most twice the node's own, so no amount can turn negative.
   double scale(std::int64_t I, const double* out) const {
-    return out[I] > g.pore[I] ? g.pore[I] / out[I] : 1.0;
+    return 2 * out[I] > g.pore[I] ? g.pore[I] / (2 * out[I]) : 1.0;
   }
 
-  // Upwind amount of a per-pore-volume quantity `amount` crossing the face
-  // between I and I + e_a. Both nodes of a face compute the same bits.
+  // Amount of a quantity (given per node, `amount`; carried per pore volume)
+  // crossing the face between I and I + e_a. Face value: the upwind node's,
+  // plus half its van Leer limited slope (MUSCL): second order where the
+  // profile is smooth, upwind at extrema, no new extrema (TVD). Both nodes of
+  // a face compute the same bits.
   double face_transfer(std::int64_t I, int a, const std::array<int, 3>& c, const double* amount,
-                       const double* out) const {
+                       const double* inflow, const double* out) const {
     const double vol = face_volume(I, a, c);
-    const std::int64_t from = vol > 0 ? I : I + stride(a);
-    if (vol == 0 || amount[from] <= 0) return 0.0;
-    return scale(from, out) * vol * amount[from] / g.pore[from];
+    if (vol == 0) return 0.0;
+    const bool forward = vol > 0;
+    const std::int64_t up = forward ? I : I + stride(a), down = forward ? I + stride(a) : I;
+    const double r_up = amount[up] / g.pore[up], r_down = amount[down] / g.pore[down];
+    double value = r_up;
+    const int up_index = forward ? c[a] : c[a] + 1;
+    const bool has_far = forward ? up_index > 0 : up_index < g.nodes[a] - 1;
+    // Upstream of the upwind node: its neighbour, or at an inlet face what
+    // enters there (the boundary node's dual cell is half a cell).
+    double r_far = std::numeric_limits<double>::quiet_NaN();
+    if (has_far) {
+      const std::int64_t far = forward ? up - stride(a) : up + stride(a);
+      if (g.pore[far] > 0) r_far = amount[far] / g.pore[far];
+    } else {
+      r_far = inflow[up * D + a];
+    }
+    if (!std::isnan(r_far)) {
+      const double s_back = r_up - r_far, s_ahead = r_down - r_up;
+      if (s_back * s_ahead > 0) value += s_back * s_ahead / (s_back + s_ahead);  // half the harmonic mean
+    }
+    return scale(up, out) * vol * value;
   }
 
   // Pass 2: net change of liquid and fines at each node from its interior faces.
@@ -173,14 +200,14 @@ struct Transport {
       double dl = 0, df = 0;
       for (int a = 0; a < D; ++a) {
         if (c[a] < g.nodes[a] - 1) {
-          dl -= face_transfer(I, a, c, g.liquid, out);
-          if (g.fines) df -= face_transfer(I, a, c, g.fines, out);
+          dl -= face_transfer(I, a, c, g.liquid, g.inflow_liquid, out);
+          if (g.fines) df -= face_transfer(I, a, c, g.fines, g.inflow_fines, out);
         }
         if (c[a] > 0) {
           auto below = c;
           --below[a];
-          dl += face_transfer(I - stride(a), a, below, g.liquid, out);
-          if (g.fines) df += face_transfer(I - stride(a), a, below, g.fines, out);
+          dl += face_transfer(I - stride(a), a, below, g.liquid, g.inflow_liquid, out);
+          if (g.fines) df += face_transfer(I - stride(a), a, below, g.fines, g.inflow_fines, out);
         }
       }
       // Free-surface outflow: what the node sends out of the liquid region.

@@ -203,6 +203,7 @@ class Simulation {
   double initial_solid_ = 0, initial_liquid_ = 0, initial_fines_ = 0;
   std::vector<double> node_pore_, node_volume_all_, node_liquid_, node_fines_, node_out_, node_dliquid_,
       node_dfines_, node_free_liquid_, node_free_fines_;
+  std::vector<double> inflow_liquid_, inflow_fines_;  // per node and axis: what enters per volume, NaN: no inlet
   std::vector<std::string> body_names_;
   std::vector<PointRange> body_ranges_;
 
