@@ -206,6 +206,28 @@ int cmd_validate(const fs::path& scene_file) {
   return 0;
 }
 
+// The end-of-run mass balance of a saturated run (the time series is in
+// <scene>.ledger.csv beside the outputs).
+void print_ledger(const suffuse::MassLedger& l, int dim, const std::string& name) {
+  const char* unit = dim == 2 ? "kg/m" : "kg";
+  std::cout << std::setprecision(6) << "mass ledger [" << unit << (dim == 2 ? ", per metre of thickness" : "")
+            << "] (time series: " << name << ".ledger.csv)\n";
+  double in_fines = 0, in_liquid = 0, out_liquid = 0;
+  for (const auto& b : l.boundaries) in_fines += b.fines_in, in_liquid += b.liquid_in, out_liquid += b.liquid_out;
+  if (l.initial_fines + in_fines > 0)
+    std::cout << "  fines:  initial " << l.initial_fines << ", brought in " << in_fines << ", in the skeleton "
+            << l.skeleton_fines << ", suspended " << l.suspended_fines << ", discharged " << l.fines_discharged();
+  for (const auto& b : l.boundaries)
+    if (b.fines_out > 0) std::cout << " (" << b.face << " " << b.fines_out << ")";
+  if (l.initial_fines + in_fines > 0)
+    std::cout << "; imbalance " << std::setprecision(2) << l.fines_imbalance() << "\n";
+  std::cout << std::setprecision(6) << "  liquid: initial " << l.initial_liquid << ", in " << in_liquid
+            << ", out " << out_liquid << ", eroded into it " << l.eroded << ", now " << l.liquid
+            << "; imbalance " << std::setprecision(2) << l.liquid_imbalance() << "\n"
+            << std::setprecision(6) << "  solid:  initial " << l.initial_solid << ", now " << l.solid
+            << "; imbalance " << std::setprecision(2) << l.solid_imbalance() << "\n";
+}
+
 int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, bool quiet) {
 #ifndef SUFFUSE_HAVE_OPENMP
   if (threads != 1) throw suffuse::Error("--threads " + std::to_string(threads) + ": this build has no OpenMP");
@@ -261,8 +283,10 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
               << format_duration(s.wall_seconds) << "; " << std::setprecision(3) << s.point_updates_per_second / 1e6
               << " million point updates per second\n"
               << "  stage times [s]: shape " << t.shape << ", reset " << t.reset << ", p2g " << t.p2g << ", grid "
-              << t.grid_update << ", g2p " << t.g2p << ", remap " << t.remap << ", stress " << t.stress
-              << ", output " << t.output << "\n";
+              << t.grid_update << ", g2p " << t.g2p << ", remap " << t.remap << ", stress " << t.stress;
+    if (s.ledger) std::cout << ", erosion " << t.erosion << ", transport " << t.transport;
+    std::cout << ", output " << t.output << "\n";
+    if (s.ledger) print_ledger(*s.ledger, scene.dim, scene.name);
   }
   return 0;
 }

@@ -248,3 +248,67 @@ TEST(EndToEnd, EveryExampleSceneRuns) {
 }
 
 }  // namespace
+
+namespace {
+
+std::vector<std::vector<std::string>> read_csv(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> row;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) row.push_back(cell);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// The default scene (suffusion column), cut to its first 8 s: the run prints
+// the mass ledger, writes it as a CSV time series whose fines discharge
+// through the top only grows and whose imbalance stays below 1e-10, and the
+// frames carry the erosion fields.
+TEST(EndToEnd, SuffusionColumnWritesItsLedger) {
+  const fs::path out = fresh_dir("suffusion");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  j["time"]["end"] = 8.0;
+  std::ofstream(out / "column.json") << j.dump(2);
+  ASSERT_EQ(run("run " + (out / "column.json").string() + " --output " + out.string(), out / "log.txt"), 0)
+      << slurp(out / "log.txt");
+  const std::string log = slurp(out / "log.txt");
+  EXPECT_NE(log.find("mass ledger"), std::string::npos) << log;
+  EXPECT_NE(log.find("fines:  initial"), std::string::npos) << log;
+
+  const auto rows = read_csv(out / "column.ledger.csv");
+  ASSERT_GT(rows.size(), 100u);
+  const auto& header = rows.front();
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t time = column("time"), out_top = column("fines_out_top"), fines = column("skeleton_fines"),
+                    imbalance = column("fines_imbalance"), liquid = column("liquid_imbalance");
+  double previous = 0;
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    ASSERT_EQ(rows[r].size(), header.size()) << "row " << r;
+    EXPECT_GE(std::stod(rows[r][out_top]), previous) << "row " << r;
+    previous = std::stod(rows[r][out_top]);
+    EXPECT_LT(std::stod(rows[r][imbalance]), 1e-10) << "row " << r;
+    EXPECT_LT(std::stod(rows[r][liquid]), 1e-10) << "row " << r;
+  }
+  EXPECT_DOUBLE_EQ(std::stod(rows.back()[time]), 8.0);
+  EXPECT_LT(std::stod(rows.back()[fines]), std::stod(rows[1][fines])) << "fines were eroded";
+  const double eroded = std::stod(rows.back()[column("eroded")]);
+  EXPECT_GT(previous, 0.05 * eroded) << "fines left through the top";
+
+  const auto frames = read_pvd(out / "column.pvd");
+  ASSERT_FALSE(frames.empty());
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName((out / frames.back().file).c_str());
+  reader->Update();
+  for (const char* name : {"porosity", "fines_content", "concentration", "darcy_flux", "pore_pressure",
+                           "eroded_fraction", "erosion_rate", "hydraulic_gradient", "hydraulic_conductivity"})
+    EXPECT_NE(reader->GetOutput()->GetPointData()->GetArray(name), nullptr) << name;
+}
+
+}  // namespace

@@ -114,4 +114,35 @@ TEST(ShapeFunctions, GimpIsContinuousAcrossCellFaces) {
   }
 }
 
+// GIMP at the grid boundary: a point whose box reaches past the grid lumps
+// the missing node's weight on the boundary node, so the weights still sum
+// to 1 and the gradients to 0 (a uniform flow has no divergence there).
+TEST(ShapeFunctions, GimpKeepsPartitionOfUnityAtTheGridBoundary) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
+  suffuse::Parameters none;
+  auto gimp = registry.create<suffuse::ShapeFunction>("shape/gimp", {none, 2, "/shape_function"});
+  const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
+  // Points in the first and last half cells, boxes of half a cell.
+  const std::vector<double> x = {0.1, 2.0, 3.9, 0.05, 0.25, 3.75, 2.5, 0.2};
+  const std::vector<double> sizes(x.size(), 0.5);
+  const std::size_t n = x.size() / 2;
+  std::vector<std::int64_t> ids(9 * n);
+  std::vector<double> w(9 * n), dw(18 * n);
+  gimp->evaluate(grid, x, sizes, ids, w, dw);
+  for (std::size_t p = 0; p < n; ++p) {
+    double sum = 0, gx = 0, gy = 0;
+    for (int k = 0; k < 9; ++k) {
+      EXPECT_GE(w[9 * p + k], 0.0);
+      sum += w[9 * p + k];
+      gx += dw[2 * (9 * p + k)];
+      gy += dw[2 * (9 * p + k) + 1];
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-14) << "point " << p;
+    EXPECT_NEAR(gx, 0.0, 1e-14) << "point " << p;
+    EXPECT_NEAR(gy, 0.0, 1e-14) << "point " << p;
+  }
+}
+
 }  // namespace

@@ -153,7 +153,7 @@ TEST(TwoPhase, SteadyUpwardSeepage) {
   // outlet cells, m_L / (n V) = rho_w (1 + (p - p_0) / K_L), p_0 the initial
   // hydrostatic pressure. The mass balance (upwind, on the nodes) and the
   // pressure equation (at the points) are two discretisations of one
-  // balance; they differ by 2.0e-5 here, where Delta p / K_L reaches 3e-5.
+  // balance; they differ by 2.6e-5 here, where Delta p / K_L reaches 3e-5.
   // A closed inlet would put the points near it 2% off.
   const double KL = j["liquids"]["water"]["bulk_modulus"];
   const double* rho = pts.data(pts.id("liquid_density"));

@@ -402,7 +402,7 @@ void Simulation::points_to_grid_saturated() {
                                    points_.data(f.velocity),       points_.data(f.stress),
                                    points_.data(sf_.porosity),     points_.data(sf_.pressure),
                                    points_.data(sf_.liquid_velocity), points_.data(sf_.liquid_mass),
-                                   points_.data(sf_.conductivity)};
+                                   points_.data(sf_.conductivity), points_.data(ef_.water_density)};
   ScatterTargets targets;
   targets.add(nodes_.mass);
   targets.add(nodes_.momentum);
@@ -512,7 +512,9 @@ void Simulation::update_stress() {
   if (saturated_) {
     auto porous = scene_.dim == 2 ? &detail::porous_update<2> : &detail::porous_update<3>;
     for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
-      porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(), nodes_.liquid_velocity.data(),
+      porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(),
+             detail::NodalFlux{nodes_.liquid_mass.data(), nodes_.liquid_inertia.data(),
+                               nodes_.liquid_velocity.data(), nodes_.velocity.data()},
              points_.data(f.velocity_gradient), points_.data(sf_.bulk_modulus), points_.data(f.velocity),
              points_.data(sf_.liquid_velocity), points_.data(sf_.porosity), points_.data(sf_.pressure_rate),
              points_.data(sf_.darcy_flux));

@@ -51,6 +51,8 @@ double MassLedger::fines_imbalance() const {
 void Simulation::add_species_fields() {
   using K = FieldKind;
   ef_.grain_density = points_.add_field({"grain_density", K::Scalar, "kg/m^3", "density rho_s of the solid", false});
+  ef_.water_density =
+      points_.add_field({"water_density", K::Scalar, "kg/m^3", "density rho_w of the clean pore liquid", false});
   if (!fines_) return;
   ef_.skeleton_fines = points_.add_field({"skeleton_fines", K::Scalar, "kg", "erodible fines in the skeleton", false});
   ef_.suspended_fines =
@@ -79,6 +81,7 @@ void Simulation::set_species_state(const BodySpec& body, PointRange range) {
   for (std::size_t p = range.begin; p < range.end; ++p) {
     const double pore = n[p] * V[p], c = body.concentration;
     points_.data(ef_.grain_density)[p] = rho_s;
+    points_.data(ef_.water_density)[p] = rho_w;
     points_.data(sf_.liquid_mass)[p] = pore * (c * rho_s + (1 - c) * rho_w);
     points_.data(sf_.liquid_density)[p] = c * rho_s + (1 - c) * rho_w;
     if (!fines_) continue;

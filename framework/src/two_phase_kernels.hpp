@@ -3,7 +3,8 @@
 // Formulation: Jassim, Stolle & Vermeer (2013); see docs/two-phase.md.
 //   liquid:  rho_L a_L = -grad p - (n rho_L g_ref / K)(v_L - v_s) + rho_L b
 //   mixture: (1-n) rho_s a_s + n rho_L a_L = div(sigma' - p I) + rho_sat b
-//   pressure: dp/dt = -(K_L / n) [(1-n) div v_s + n div v_L]
+//   pressure: dp/dt = -(K_L / n) [div v_s + div q],  q = n (v_L - v_s)
+//             (= (1-n) div v_s + n div v_L where n is uniform)
 #include <cstddef>
 #include <cstdint>
 
@@ -38,12 +39,12 @@ struct SaturatedNodes {
   double* liquid_momentum;  // D per node
   double* liquid_force;     // D per node
   double* liquid_inertia;   // sum N rho_L V
-  double* drag;             // sum N n rho_L g_ref V / K
+  double* drag;             // sum N n rho_w g_ref V / K
 };
 
 struct SaturatedPoints {
   const double *mass, *volume, *velocity, *stress, *porosity, *pressure, *liquid_velocity, *liquid_mass,
-      *conductivity;
+      *conductivity, *water_density;
 };
 
 template <int D>
@@ -56,8 +57,9 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
     // intrinsic density times the volume is m_L / n.
     const double ml = n > 0 ? pt.liquid_mass[p] : 0.0;
     const double rho_l_V = n > 0 ? ml / n : 0.0;
-    // A dry point (n = 0, no liquid) adds no liquid mass, drag or liquid force.
-    const double drag = n > 0 ? ml * reference_gravity / pt.conductivity[p] : 0.0;
+    // Drag n gamma_w V / K: K is measured with clean water, whatever the
+    // liquid carries. A dry point (n = 0) adds no liquid mass, drag or force.
+    const double drag = n > 0 ? n * pt.water_density[p] * reference_gravity * V / pt.conductivity[p] : 0.0;
     const double* vs = pt.velocity + p * D;
     const double* vl = pt.liquid_velocity + p * D;
     const double* s = pt.stress + p * 6;
@@ -119,17 +121,27 @@ void g2p_liquid(std::size_t begin, std::size_t end, int npp, double dt, const st
   }
 }
 
+struct NodalFlux {
+  const double *liquid_mass, *liquid_inertia, *liquid_velocity, *solid_velocity;
+};
+
 // After the skeleton's velocity gradient L (field) and volume are updated:
 // pore pressure rate, porosity and Darcy flux.
 template <int D>
 void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
-                   const double* node_vl, const double* L, const double* bulk, const double* vs,
+                   const NodalFlux& nodes, const double* L, const double* bulk, const double* vs,
                    const double* vl, double* n, double* pressure_rate, double* darcy) {
   for (std::size_t p = begin; p < end; ++p) {
-    double div_l = 0;
+    // div q with the nodal Darcy flux q_I = n_I (v_L - v_s)_I: the porosity
+    // gradient counts (erosion makes porosity vary), as in the transport.
+    double div_q = 0;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
-      for (int i = 0; i < D; ++i) div_l += node_vl[ids[k] * D + i] * dw[k * D + i];
+      const std::int64_t I = ids[k];
+      if (nodes.liquid_inertia[I] <= 0) continue;
+      const double nI = nodes.liquid_mass[I] / nodes.liquid_inertia[I];
+      for (int i = 0; i < D; ++i)
+        div_q += nI * (nodes.liquid_velocity[I * D + i] - nodes.solid_velocity[I * D + i]) * dw[k * D + i];
     }
     const double* l = L + p * D * D;
     double div_s = 0;
@@ -140,7 +152,7 @@ void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const
       pressure_rate[p] = 0;
       continue;
     }
-    pressure_rate[p] = -bulk[p] / n0 * ((1 - n0) * div_s + n0 * div_l);
+    pressure_rate[p] = -bulk[p] / n0 * (div_s + div_q);
     n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
     for (int i = 0; i < D; ++i) darcy[p * D + i] = n[p] * (vl[p * D + i] - vs[p * D + i]);
   }

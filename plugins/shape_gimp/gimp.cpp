@@ -3,8 +3,10 @@
 // over the box. Weights and gradients are continuous when a point crosses a
 // cell face, which removes the cell-crossing noise of shape/linear.
 // Support: 3 nodes per axis (9 in 2D, 27 in 3D) while the half-size is at
-// most half a cell. Nodes outside the grid are dropped, so a point must stay
-// half its size away from the grid boundary to keep the partition of unity.
+// most half a cell. Where a point's box reaches past the grid, the weight of
+// the missing node is lumped on the boundary node of that axis (a ghost node
+// moving with it), so the weights still sum to 1 and the gradients to 0: a
+// uniform flow through a grid face has no spurious divergence there.
 #include <algorithm>
 #include <cmath>
 #include <suffuse/plugin.hpp>
@@ -50,7 +52,14 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
       for (int k = 0; k < 3; ++k) {
         const int node = base[a] + k;
         valid[a][k] = node >= 0 && node < nodes[a];
-        if (valid[a][k]) gimp_1d(x[p * D + a] - (o[a] + node * h[a]), h[a], lp, s1[a][k], d1[a][k]);
+        gimp_1d(x[p * D + a] - (o[a] + node * h[a]), h[a], lp, s1[a][k], d1[a][k]);
+      }
+      for (int k = 0; k < 3; ++k) {
+        if (valid[a][k]) continue;
+        const int into = base[a] + k < 0 ? k + 1 : k - 1;  // the boundary node next to the missing one
+        s1[a][into] += s1[a][k];
+        d1[a][into] += d1[a][k];
+        s1[a][k] = d1[a][k] = 0;
       }
     }
     for (int k = 0; k < npp; ++k) {

@@ -185,7 +185,7 @@ class Simulation {
   bool fines_ = false;  // some body carries erodible or suspended fines
   struct SpeciesFields {
     FieldId skeleton_fines, suspended_fines, eroded_mass, fines_content, ultimate_fines_content, concentration,
-        eroded_fraction, erosion_rate, hydraulic_gradient, grain_density;
+        eroded_fraction, erosion_rate, hydraulic_gradient, grain_density, water_density;
   } ef_{};
   std::vector<std::unique_ptr<ErosionLaw>> erosion_;  // per material, may be null
   std::vector<double> flux_magnitude_;                // per point, scratch of the erosion stage
