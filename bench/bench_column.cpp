@@ -1,5 +1,6 @@
 // Throughput of the explicit MPM step on ~100,000-point columns, dry
-// (share/scenes/bench_column.json) and saturated (bench_saturated_column.json). items_per_second is the number
+// (share/scenes/bench_column.json), saturated (bench_saturated_column.json) and
+// eroding (bench_suffusion_column.json). items_per_second is the number
 // of material-point updates per second.
 #include <benchmark/benchmark.h>
 
@@ -31,6 +32,9 @@ void column(benchmark::State& state, const char* shape) { run_scene(state, "benc
 void saturated_column(benchmark::State& state, const char* shape) {
   run_scene(state, "bench_saturated_column.json", shape);
 }
+void suffusion_column(benchmark::State& state, const char* shape) {
+  run_scene(state, "bench_suffusion_column.json", shape);
+}
 
 }  // namespace
 
@@ -38,4 +42,6 @@ BENCHMARK_CAPTURE(column, linear, "shape/linear")->Arg(1)->Arg(2)->ArgName("thre
 BENCHMARK_CAPTURE(column, gimp, "shape/gimp")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 BENCHMARK_CAPTURE(saturated_column, linear, "shape/linear")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 BENCHMARK_CAPTURE(saturated_column, gimp, "shape/gimp")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+BENCHMARK_CAPTURE(suffusion_column, linear, "shape/linear")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+BENCHMARK_CAPTURE(suffusion_column, gimp, "shape/gimp")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 BENCHMARK_MAIN();
