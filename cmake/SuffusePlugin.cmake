@@ -1,10 +1,31 @@
-# suffuse_add_plugin(NAME SOURCES src...): a plugin library, built as a module
-# that the core loads at run time, placed where the core looks for plugins.
+# suffuse_add_plugin(<name> SOURCES <src>... [OUTPUT_DIRECTORY <dir>])
+#
+# Builds a suffuse plugin: a MODULE library lib<name>.so that the core loads
+# at run time (Boost.DLL), linked to suffuse::core, C++20, position
+# independent, with hidden symbols except the entry point that
+# SUFFUSE_PLUGIN_LIBRARY exports. It is compiled with the same NDEBUG setting
+# as the core it will be loaded into (the loader refuses a debug plugin in a
+# release core and the reverse), whatever CMAKE_BUILD_TYPE says.
+#
+# In the suffuse source tree the bundled plugins go next to the core and are
+# installed with it. In a third-party project (find_package(Suffuse)) the
+# library stays in the build tree, or in OUTPUT_DIRECTORY; point a scene's
+# "plugin_paths" or SUFFUSE_PLUGIN_PATH at that directory.
 function(suffuse_add_plugin name)
   cmake_parse_arguments(ARG "" "OUTPUT_DIRECTORY" "SOURCES" ${ARGN})
+  if(NOT ARG_SOURCES)
+    message(FATAL_ERROR "suffuse_add_plugin(${name}): no SOURCES")
+  endif()
   add_library(${name} MODULE ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE suffuse::core)
-  set_target_properties(${name} PROPERTIES PREFIX "lib" CXX_VISIBILITY_PRESET hidden)
+  target_compile_features(${name} PRIVATE cxx_std_20)
+  set_target_properties(${name} PROPERTIES PREFIX "lib" POSITION_INDEPENDENT_CODE ON
+                        CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
+  if(SUFFUSE_CORE_BUILD_TYPE STREQUAL "release")
+    target_compile_definitions(${name} PRIVATE NDEBUG)
+  else()
+    target_compile_options(${name} PRIVATE -UNDEBUG)
+  endif()
   if(ARG_OUTPUT_DIRECTORY)
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
   elseif(DEFINED SUFFUSE_PLUGIN_OUTPUT_DIR)

@@ -1,0 +1,156 @@
+// Third-party plugins as a user builds them: install suffuse to a prefix,
+// copy the erosion-law template out of the installed share/, build it
+// against the installed CMake package only, run a scene naming the law, and
+// check the result, and that nothing of the installed suffuse was rebuilt.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs a shell command with the plugin path of the environment cleared, its
+// output in `log`; returns the exit status.
+int sh(const std::string& command, const fs::path& log) {
+  const std::string full = "env -u SUFFUSE_PLUGIN_PATH " + command + " > " + log.string() + " 2>&1";
+  const int status = std::system(full.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream s(line);
+  for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+  return cells;
+}
+
+struct Installed {
+  fs::path root, prefix;
+  Installed() {
+    root = fs::temp_directory_path() / "suffuse_install_test";
+    fs::remove_all(root);
+    fs::create_directories(root);
+    prefix = root / "prefix";
+    const int status = sh(std::string(CMAKE_COMMAND) + " --install " + SUFFUSE_BUILD_DIR + " --prefix " +
+                              prefix.string(), root / "install.log");
+    EXPECT_EQ(status, 0) << slurp(root / "install.log");
+  }
+  fs::path program() const { return prefix / "bin/suffuse"; }
+  fs::path core() const { return fs::canonical(prefix / "lib/libsuffuse_core.so"); }
+};
+
+TEST(Install, TemplateLawBuildsAgainstTheInstalledPackageAndRuns) {
+  const Installed inst;
+  const std::string program_before = slurp(inst.program()), core_before = slurp(inst.core());
+  ASSERT_FALSE(program_before.empty());
+  ASSERT_FALSE(core_before.empty());
+
+  // The template, copied from the installed share/ to a folder of its own.
+  const fs::path law = inst.root / "my_law";
+  fs::copy(inst.prefix / "share/suffuse/templates/erosion_law", law, fs::copy_options::recursive);
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(sh(std::string(CMAKE_COMMAND) + " -S " + law.string() + " -B " + (law / "build").string() +
+                   " -DCMAKE_PREFIX_PATH=" + inst.prefix.string(),
+               inst.root / "configure.log"),
+            0)
+      << slurp(inst.root / "configure.log");
+  ASSERT_EQ(sh(std::string(CMAKE_COMMAND) + " --build " + (law / "build").string() + " -j2", inst.root / "build.log"),
+            0)
+      << slurp(inst.root / "build.log");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  RecordProperty("out_of_tree_build_seconds", std::to_string(seconds));
+  // Built from the installed package alone: no path into the source tree.
+  EXPECT_EQ(slurp(law / "build/CMakeCache.txt").find(SUFFUSE_SOURCE_DIR), std::string::npos);
+  EXPECT_TRUE(fs::exists(law / "build/libmy_erosion_law.so"));
+  // The template's own unit test.
+  EXPECT_EQ(sh("ctest --test-dir " + (law / "build").string() + " --output-on-failure", inst.root / "ctest.log"), 0)
+      << slurp(inst.root / "ctest.log");
+
+  // The scene that names the law, run by the installed program.
+  ASSERT_EQ(sh(inst.program().string() + " run " + (law / "first_order_box.json").string() + " --output " +
+                   (law / "out").string(),
+               inst.root / "run.log"),
+            0)
+      << slurp(inst.root / "run.log");
+  // Closed box, no flow: F = (1-n) f_c follows F_k+1 - F_inf = (1 - dt k (1 - f_inf)) (F_k - F_inf)
+  // exactly, 100 steps of 0.01 s; the fines in the skeleton are rho_s F V.
+  const auto scene = suffuse::test::read_json(law / "first_order_box.json");
+  const double n0 = scene["bodies"][0]["porosity"], fc0 = scene["bodies"][0]["fines_content"];
+  const double f_inf = scene["bodies"][0]["ultimate_fines_content"];
+  const double k = scene["materials"]["sand"]["erosion"]["rate_constant"];
+  const double rho_s = scene["materials"]["sand"]["density"], dt = scene["time"]["dt"];
+  const double volume = 0.1 * 0.1, C = (1 - n0) * (1 - fc0), F_inf = f_inf * C / (1 - f_inf);
+  const double F = F_inf + ((1 - n0) * fc0 - F_inf) * std::pow(1 - dt * k * (1 - f_inf), 100);
+  std::ifstream csv(law / "out/first_order_box.ledger.csv");
+  std::string header, line, last;
+  std::getline(csv, header);
+  while (std::getline(csv, line)) last = line;
+  const auto names = split(header), values = split(last);
+  ASSERT_EQ(names.size(), values.size());
+  const auto column = [&](const std::string& name) {
+    return std::stod(values[std::find(names.begin(), names.end(), name) - names.begin()]);
+  };
+  EXPECT_DOUBLE_EQ(column("time"), 1.0);
+  EXPECT_NEAR(column("skeleton_fines") / (rho_s * F * volume), 1.0, 1e-12);
+  EXPECT_LT(column("fines_imbalance"), 1e-12);
+
+  // suffuse plugins lists it with its library; describe prints its parameters.
+  const std::string with_law = "SUFFUSE_PLUGIN_PATH=" + (law / "build").string() + " ";
+  ASSERT_EQ(sh(with_law + inst.program().string() + " plugins", inst.root / "plugins.log"), 0);
+  const std::string listing = slurp(inst.root / "plugins.log");
+  EXPECT_NE(listing.find("erosion/first_order"), std::string::npos) << listing;
+  EXPECT_NE(listing.find((law / "build/libmy_erosion_law.so").string()), std::string::npos) << listing;
+  ASSERT_EQ(sh(with_law + inst.program().string() + " describe erosion/first_order", inst.root / "describe.log"), 0);
+  const std::string description = slurp(inst.root / "describe.log");
+  EXPECT_NE(description.find("rate_constant"), std::string::npos) << description;
+  EXPECT_NE(description.find("1/s"), std::string::npos) << description;
+
+  // Nothing of the installed suffuse was rebuilt or rewritten.
+  EXPECT_TRUE(slurp(inst.program()) == program_before) << "the installed program changed";
+  EXPECT_TRUE(slurp(inst.core()) == core_before) << "the installed core library changed";
+}
+
+// A plugin built for another ABI major version, and a library that is not a
+// suffuse plugin, named in a scene: the run stops before writing anything,
+// with the library's specific message and status 1.
+TEST(Install, RefusedLibrariesEndTheRunCleanly) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_refused_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto scene = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  const struct {
+    const char* file;
+    const char* message;
+  } cases[] = {{"wrong_abi/libsuffuse_test_wrong_abi.so", "was built for plugin ABI"},
+               {"no_entry/libsuffuse_test_no_entry.so", "is not a suffuse plugin"}};
+  for (const auto& c : cases) {
+    scene["plugin_paths"] = {(fs::path(SUFFUSE_TEST_PLUGIN_DIR) / c.file).string()};
+    std::ofstream(dir / "scene.json") << scene.dump(2);
+    const int status = sh(std::string(SUFFUSE_EXECUTABLE) + " run " + (dir / "scene.json").string() + " --output " +
+                              (dir / "out").string(),
+                          dir / "log.txt");
+    const std::string log = slurp(dir / "log.txt");
+    EXPECT_EQ(status, 1) << log;
+    EXPECT_NE(log.find(c.message), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(dir / "out")) << "nothing is written before the scene is valid";
+  }
+}
+
+}  // namespace
