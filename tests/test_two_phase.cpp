@@ -136,7 +136,7 @@ TEST(TwoPhase, SteadyUpwardSeepage) {
   }
   // Flux through each cross-section, except the last five cells (0.1 m) below
   // the free top where the liquid leaves the body: points there deviate by up
-  // to 43% (known defect of the outflow surface, see docs/two-phase.md).
+  // to 42% (known defect of the outflow surface, see docs/two-phase.md).
   for (std::size_t layer = 0; layer < 90; ++layer)
     q_worst = std::max(q_worst, std::abs(layer_flux[layer] - q_exact) / q_exact);
   EXPECT_NEAR(q_mean / q_exact, 1.0, 0.01);
