@@ -123,3 +123,22 @@ TEST(PluginLoading, SecondLoaderOnTheSameRegistryAddsNothing) {
 }
 
 }  // namespace
+
+namespace {
+
+// ParameterSchema::complete, for plugin unit tests: what a scene would accept.
+TEST(PluginLoading, SchemaCompletesParametersGivenInCode) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
+  const suffuse::ParameterSchema schema = registry.find("erosion/fines_limited")->schema();
+  const suffuse::Parameters p = schema.complete({{"lambda", 2.0}});
+  EXPECT_EQ(p.number("lambda"), 2.0);
+  EXPECT_EQ(p.number("critical_gradient"), 0.0) << "the default is filled in";
+  EXPECT_THROW(schema.complete({}), suffuse::Error);
+  EXPECT_THROW(schema.complete({{"lambda", -1.0}}), suffuse::Error);
+  EXPECT_THROW(schema.complete({{"lambda", 1.0}, {"lamda", 1.0}}), suffuse::Error);
+  EXPECT_THROW(schema.complete({{"lambda", std::string("one")}}), suffuse::Error);
+}
+
+}  // namespace

@@ -94,6 +94,9 @@ void expect_diagnostics(const json& scene, const std::vector<Diagnostic>& expect
 }
 
 const char* const kPhaseExpected = "a phase plugin, one of {phase/linear_elastic}";
+const char* const kUnknownPlugin =
+    "unknown plugin (no library found registers it; `suffuse plugins` lists what was found; add its library "
+    "with the scene's \"plugin_paths\" or $SUFFUSE_PLUGIN_PATH)";
 
 TEST(SceneValidation, ValidBaseSceneParsesIntoTypedValues) {
   json j = base_scene();
@@ -212,14 +215,14 @@ TEST(SceneValidation, MissingRequiredCoreParameter) {
 TEST(SceneValidation, UnknownPluginTypeListsValidPluginsOfThatKind) {
   json j = base_scene();
   j["materials"]["soil"]["type"] = "phase/mohr_coulomb";
-  expect_diagnostics(j, {{"/materials/soil/type", "unknown plugin", kPhaseExpected, "\"phase/mohr_coulomb\"",
+  expect_diagnostics(j, {{"/materials/soil/type", kUnknownPlugin, kPhaseExpected, "\"phase/mohr_coulomb\"",
                           "core"}});
 }
 
 TEST(SceneValidation, UnknownBoundaryConditionPlugin) {
   json j = base_scene();
   j["boundary_conditions"][2]["type"] = "bc/pressure_head";
-  expect_diagnostics(j, {{"/boundary_conditions/2/type", "unknown plugin",
+  expect_diagnostics(j, {{"/boundary_conditions/2/type", kUnknownPlugin,
                           "a boundary condition plugin, one of {bc/inflow_flux, bc/pore_pressure, bc/traction, bc/velocity}", "\"bc/pressure_head\"",
                           "core"}});
 }

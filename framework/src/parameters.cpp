@@ -1,5 +1,6 @@
 #include "suffuse/parameters.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -117,6 +118,45 @@ const std::vector<std::string>& Parameters::string_list(const std::string& name)
 std::optional<double> Parameters::maybe_number(const std::string& name) const {
   if (!has(name)) return std::nullopt;
   return number(name);
+}
+
+Parameters ParameterSchema::complete(std::map<std::string, ParamValue> values) const {
+  for (const auto& [name, value] : values) {
+    const Param* p = find(name);
+    if (!p) throw Error("parameter '" + name + "' is not declared by the schema");
+    const bool type_ok = [&] {
+      switch (p->type) {
+        case ParamType::Number: return std::holds_alternative<double>(value);
+        case ParamType::Integer: return std::holds_alternative<long long>(value);
+        case ParamType::Boolean: return std::holds_alternative<bool>(value);
+        case ParamType::String:
+        case ParamType::Choice: return std::holds_alternative<std::string>(value);
+        case ParamType::Vector: return std::holds_alternative<std::vector<double>>(value);
+        case ParamType::StringList: return std::holds_alternative<std::vector<std::string>>(value);
+      }
+      return false;
+    }();
+    if (!type_ok) throw Error("parameter '" + name + "': expected " + p->expectation(3));
+    if (p->type == ParamType::Number || p->type == ParamType::Integer) {
+      const double v = p->type == ParamType::Number ? std::get<double>(value)
+                                                    : static_cast<double>(std::get<long long>(value));
+      const bool low = p->min_exclusive ? !(v > p->min) : !(v >= p->min);
+      const bool high = p->max_exclusive ? !(v < p->max) : !(v <= p->max);
+      if (low || high) throw Error("parameter '" + name + "' = " + to_string(value) + ": expected " + p->expectation(3));
+    }
+    if (p->type == ParamType::Choice &&
+        std::find(p->choices.begin(), p->choices.end(), std::get<std::string>(value)) == p->choices.end())
+      throw Error("parameter '" + name + "' = " + to_string(value) + ": expected " + p->expectation(3));
+  }
+  for (const Param& p : params_) {
+    if (values.count(p.name)) continue;
+    if (p.default_value) {
+      values.emplace(p.name, *p.default_value);
+    } else if (p.required()) {
+      throw Error("missing required parameter '" + p.name + "': " + p.expectation(3));
+    }
+  }
+  return Parameters(std::move(values));
 }
 
 }  // namespace suffuse

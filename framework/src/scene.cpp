@@ -118,6 +118,11 @@ std::string list(const std::vector<std::string>& names) {
   return s + "}";
 }
 
+// A plugin no library on the search path registers: say where to add one.
+constexpr const char* kUnknownPlugin =
+    "unknown plugin (no library found registers it; `suffuse plugins` lists what was found; add its library "
+    "with the scene's \"plugin_paths\" or $SUFFUSE_PLUGIN_PATH)";
+
 class SceneReader {
  public:
   SceneReader(const json& root, Registry& registry) : root_(root), registry_(registry), sections_(core_sections()) {}
@@ -191,7 +196,9 @@ class SceneReader {
     PluginNode result;
     result.pointer = ptr;
     const std::vector<std::string> valid = registry_.names_of(kind);
-    const std::string expected = "a " + to_string(kind) + " plugin, one of " + list(valid);
+    const std::string kind_name = to_string(kind);
+    const std::string article = std::string("aeiou").find(kind_name.front()) != std::string::npos ? "an " : "a ";
+    const std::string expected = article + kind_name + " plugin, one of " + list(valid);
     if (!node.is_object()) {
       error(ptr, "wrong type", "an object with a \"type\" key naming " + expected, show(node), "core");
       return result;
@@ -208,7 +215,7 @@ class SceneReader {
     result.type = type.get<std::string>();
     const PluginInfo* info = registry_.find(result.type);
     if (!info) {
-      error(ptr + "/type", "unknown plugin", expected, "\"" + result.type + "\"", "core");
+      error(ptr + "/type", std::string(kUnknownPlugin), expected, "\"" + result.type + "\"", "core");
       return result;
     }
     if (info->kind != kind) {

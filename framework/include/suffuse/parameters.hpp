@@ -34,7 +34,7 @@ struct Param {
   std::vector<std::string> choices;  // Choice
   int length = 0;                    // Vector: 0 means "one value per spatial dimension"
 
-  // Fluent setters, used as schema.number("E").unit("Pa").above(0).doc("...").
+  // Fluent setters, used as schema.number("E").with_unit("Pa").above(0).doc("...").
   Param& with_unit(std::string u) { unit = std::move(u); return *this; }
   Param& doc(std::string d) { description = std::move(d); return *this; }
   Param& at_least(double v) { min = v; min_exclusive = false; return *this; }
@@ -66,6 +66,11 @@ class ParameterSchema {
 
   const std::deque<Param>& params() const { return params_; }
   const Param* find(const std::string& name) const;
+
+  // Parameters from values given in code, for a plugin's unit tests: unknown
+  // keys, missing required keys, wrong types and numbers out of range throw
+  // suffuse::Error; defaults are filled in. Scenes get the full validation.
+  class Parameters complete(std::map<std::string, ParamValue> values) const;
 
  private:
   Param& add(std::string name, ParamType type);
