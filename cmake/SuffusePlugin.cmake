@@ -3,9 +3,9 @@
 # Builds a suffuse plugin: a MODULE library lib<name>.so that the core loads
 # at run time (Boost.DLL), linked to suffuse::core, C++20, position
 # independent, with hidden symbols except the entry point that
-# SUFFUSE_PLUGIN_LIBRARY exports. It is compiled with the same NDEBUG setting
-# as the core it will be loaded into (the loader refuses a debug plugin in a
-# release core and the reverse), whatever CMAKE_BUILD_TYPE says.
+# SUFFUSE_PLUGIN_LIBRARY exports. Outside the suffuse sources it is compiled
+# with the NDEBUG setting of the installed core (the loader refuses a debug
+# plugin in a release core and the reverse), whatever CMAKE_BUILD_TYPE says.
 #
 # In the suffuse source tree the bundled plugins go next to the core and are
 # installed with it. In a third-party project (find_package(Suffuse)) the
@@ -21,10 +21,13 @@ function(suffuse_add_plugin name)
   target_compile_features(${name} PRIVATE cxx_std_20)
   set_target_properties(${name} PROPERTIES PREFIX "lib" POSITION_INDEPENDENT_CODE ON
                         CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
-  if(SUFFUSE_CORE_BUILD_TYPE STREQUAL "release")
-    target_compile_definitions(${name} PRIVATE NDEBUG)
-  else()
-    target_compile_options(${name} PRIVATE -UNDEBUG)
+  if(NOT SUFFUSE_IN_SOURCE_TREE)
+    # A third-party plugin: match the installed core, whatever CMAKE_BUILD_TYPE says.
+    if(SUFFUSE_CORE_BUILD_TYPE STREQUAL "release")
+      target_compile_definitions(${name} PRIVATE NDEBUG)
+    elseif(SUFFUSE_CORE_BUILD_TYPE STREQUAL "debug")
+      target_compile_options(${name} PRIVATE -UNDEBUG)
+    endif()
   endif()
   if(ARG_OUTPUT_DIRECTORY)
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})

@@ -215,7 +215,10 @@ void Simulation::add_saturated_fields() {
       points_.add_field({"hydraulic_conductivity", K::Scalar, "m/s", "hydraulic conductivity K", true});
   sf_.darcy_flux = points_.add_field({"darcy_flux", K::Vector, "m/s", "Darcy flux q = n (v_L - v_s)", true});
   sf_.liquid_density = points_.add_field({"liquid_density", K::Scalar, "kg/m^3", "density of the pore liquid", true});
-  sf_.liquid_mass = points_.add_field({"liquid_mass", K::Scalar, "kg", "n rho_L V (per metre in 2D)", true});
+  sf_.liquid_mass = points_.add_field(
+      {"liquid_mass", K::Scalar, "kg", "pore liquid the point carries, transported (per metre in 2D)", true});
+  sf_.moving_liquid_mass = points_.add_field(
+      {"moving_liquid_mass", K::Scalar, "kg", "n rho_L V, the liquid mass of the momentum balance", false});
   sf_.bulk_modulus = points_.add_field({"liquid_bulk_modulus", K::Scalar, "Pa", "K_L of the pore liquid", false});
   sf_.pressure_rate =
       points_.add_field({"pore_pressure_rate", K::Scalar, "Pa/s", "unsmoothed rate of the pore pressure", false});
@@ -401,7 +404,7 @@ void Simulation::points_to_grid_saturated() {
   const detail::SaturatedPoints pt{points_.data(f.mass),           points_.data(f.volume),
                                    points_.data(f.velocity),       points_.data(f.stress),
                                    points_.data(sf_.porosity),     points_.data(sf_.pressure),
-                                   points_.data(sf_.liquid_velocity), points_.data(sf_.liquid_mass),
+                                   points_.data(sf_.liquid_velocity), points_.data(sf_.moving_liquid_mass),
                                    points_.data(sf_.conductivity), points_.data(ef_.water_density)};
   ScatterTargets targets;
   targets.add(nodes_.mass);
@@ -483,7 +486,7 @@ void Simulation::remap_momentum() {
     kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(f.mass), scene_.mass_scaling,
            points_.data(f.velocity), out[0]);
     if (saturated_)
-      kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(sf_.liquid_mass), scene_.mass_scaling,
+      kernel(b, e, npp_, node_ids_.data(), weights_.data(), points_.data(sf_.moving_liquid_mass), scene_.mass_scaling,
              points_.data(sf_.liquid_velocity), out[1]);
   });
   const std::size_t dim = scene_.dim;
@@ -512,12 +515,17 @@ void Simulation::update_stress() {
   if (saturated_) {
     auto porous = scene_.dim == 2 ? &detail::porous_update<2> : &detail::porous_update<3>;
     for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
-      porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(),
+      const std::size_t bad = porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(),
              detail::NodalFlux{nodes_.liquid_mass.data(), nodes_.liquid_inertia.data(),
                                nodes_.liquid_velocity.data(), nodes_.velocity.data()},
              points_.data(f.velocity_gradient), points_.data(sf_.bulk_modulus), points_.data(f.velocity),
              points_.data(sf_.liquid_velocity), points_.data(sf_.porosity), points_.data(sf_.pressure_rate),
              points_.data(sf_.darcy_flux));
+      if (bad != e)
+        throw Error("material point " + std::to_string(bad) + " was compressed to porosity " +
+                    std::to_string(points_.data(sf_.porosity)[bad]) + " at step " + std::to_string(step_) +
+                    " (t = " + std::to_string(time_) +
+                    " s): its grains cannot be compressed; reduce the time step or check the loads");
     });
     // Pressure smoothing: the pore-pressure rate is averaged over the nodes
     // and interpolated back. Raw point rates carry the checkerboard modes of a

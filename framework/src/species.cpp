@@ -84,6 +84,7 @@ void Simulation::set_species_state(const BodySpec& body, PointRange range) {
     points_.data(ef_.water_density)[p] = rho_w;
     points_.data(sf_.liquid_mass)[p] = pore * (c * rho_s + (1 - c) * rho_w);
     points_.data(sf_.liquid_density)[p] = c * rho_s + (1 - c) * rho_w;
+    points_.data(sf_.moving_liquid_mass)[p] = pore * (c * rho_s + (1 - c) * rho_w);
     if (!fines_) continue;
     points_.data(ef_.skeleton_fines)[p] = body.fines_content * ms[p];
     points_.data(ef_.suspended_fines)[p] = c * rho_s * pore;
@@ -103,6 +104,10 @@ void Simulation::setup_openings() {
   inflow_fines_ = inflow_liquid_;
   for (const auto& bc : bcs_) {
     for (const LiquidOpening& o : bc->liquid_openings()) {
+      for (const Opening& other : openings_)
+        if (other.face.axis == o.face.axis && other.face.upper == o.face.upper)
+          throw Error("two boundary conditions open the same grid face to the liquid; its outflow would be counted "
+                      "twice: keep one bc/pore_pressure or bc/inflow_flux per face");
       Opening opening{o.face, o.concentration, rho_s, rho_w, {}};
       for (std::int64_t I : face_nodes(grid_, o.face)) {
         const auto ijk = grid_.node_ijk(I);
@@ -156,13 +161,20 @@ void Simulation::erode() {
         flux_magnitude_[p] = std::sqrt(q2);
         grad[p] = flux_magnitude_[p] / K[p];  // Darcy: q = K i
         fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
-        c[p] = pt.suspended_fines[p] / (pt.grain_density[p] * pt.porosity[p] * pt.volume[p]);
+        c[p] = detail::suspended_concentration(pt.suspended_fines[p], pt.liquid_mass[p], pt.grain_density[p],
+                                               points_.data(ef_.water_density)[p]);
       }
       auto span = [&](FieldId id) { return std::span<const double>(points_.data(id) + begin, count); };
       double* rate = points_.data(ef_.erosion_rate);
       law->rate(ErosionBatch{span(sf_.porosity), span(ef_.fines_content), span(ef_.ultimate_fines_content),
                              span(ef_.concentration), std::span<const double>(flux_magnitude_.data() + begin, count),
                              span(ef_.hydraulic_gradient), std::span<double>(rate + begin, count)});
+      for (std::size_t p = begin; p < end; ++p)
+        if (!std::isfinite(rate[p]))
+          throw Error("erosion law of material '" + scene_.materials[r.material].name + "' returned rate " +
+                      std::to_string(rate[p]) + " at material point " + std::to_string(p) + " (n = " +
+                      std::to_string(pt.porosity[p]) + ", f_c = " + std::to_string(fc[p]) + ", c = " +
+                      std::to_string(c[p]) + ", |q| = " + std::to_string(flux_magnitude_[p]) + ")");
       detail::apply_erosion(begin, end, dt_, pt, points_.data(ef_.ultimate_fines_content), rate);
       double* fer = points_.data(ef_.eroded_fraction);
       for (std::size_t p = begin; p < end; ++p) {
@@ -213,7 +225,7 @@ void Simulation::transport_liquid() {
       transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_free_liquid_.data(),
                          node_free_fines_.data());
     });
-    // Free surfaces: summed in node order, the same for every thread count.
+    // Free surfaces: summed in node order, independent of the chunking.
     BoundaryDischarge& free = discharge_.back();
     for (std::size_t I = 0; I < nn; ++I) {
       free.liquid_out += node_free_liquid_[I];
@@ -256,17 +268,24 @@ void Simulation::transport_liquid() {
     if (fines_)
       detail::g2p_share(b, e, npp_, node_ids_.data(), weights_.data(), V, n, node_pore_.data(), node_fines_.data(),
                         node_dfines_.data(), points_.data(ef_.suspended_fines));
-    // The liquid's density follows what it carries (rho_L = c rho_s + (1-c) rho_w).
+    // The momentum balance sees the pores full of the liquid the point
+    // carries: n V rho_L, rho_L = c rho_s + (1 - c) rho_w. Not the carried
+    // mass itself, which near a free surface inside the grid can pile up
+    // (docs/two-phase.md, known defects).
     const double* ml = points_.data(sf_.liquid_mass);
+    const double* rho_w = points_.data(ef_.water_density);
     double* rho = points_.data(sf_.liquid_density);
-    for (std::size_t p = b; p < e; ++p)
-      if (n[p] > 0) rho[p] = ml[p] / (n[p] * V[p]);
-    if (!fines_) return;
-    const double* mf = points_.data(ef_.suspended_fines);
+    double* moving = points_.data(sf_.moving_liquid_mass);
+    const double* mf = fines_ ? points_.data(ef_.suspended_fines) : nullptr;
     const double* rho_s = points_.data(ef_.grain_density);
-    double* c = points_.data(ef_.concentration);
-    for (std::size_t p = b; p < e; ++p)
-      if (n[p] > 0) c[p] = mf[p] / (rho_s[p] * n[p] * V[p]);
+    double* c = fines_ ? points_.data(ef_.concentration) : nullptr;
+    for (std::size_t p = b; p < e; ++p) {
+      if (n[p] <= 0) continue;
+      const double conc = mf ? detail::suspended_concentration(mf[p], ml[p], rho_s[p], rho_w[p]) : 0.0;
+      if (c) c[p] = conc;
+      rho[p] = conc * rho_s[p] + (1 - conc) * rho_w[p];
+      moving[p] = n[p] * V[p] * rho[p];
+    }
   });
 }
 

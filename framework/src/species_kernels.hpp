@@ -14,6 +14,14 @@
 
 namespace suffuse::detail {
 
+// Volume fraction of fines in the liquid a point carries: fines volume over
+// fines plus water volume. In [0, 1] whatever the amounts, so a point where
+// the transport piles liquid up (below a free surface) keeps a physical c.
+inline double suspended_concentration(double fines, double liquid, double rho_s, double rho_w) {
+  const double v_fines = fines / rho_s, v_water = std::max(0.0, liquid - fines) / rho_w;
+  return v_fines > 0 ? v_fines / (v_fines + v_water) : 0.0;
+}
+
 // Per-point state of the species, spans of the point count.
 struct SpeciesPoints {
   double* solid_mass;       // the skeleton's solid, its fines included [kg]

@@ -53,8 +53,7 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
                    const SaturatedNodes& out) {
   for (std::size_t p = begin; p < end; ++p) {
     const double ms = pt.mass[p], V = pt.volume[p], n = pt.porosity[p], pr = pt.pressure[p];
-    // The liquid's mass is its own state (transported, eroded into); its
-    // intrinsic density times the volume is m_L / n.
+    // n rho_L V; its intrinsic density times the volume is m_L / n.
     const double ml = n > 0 ? pt.liquid_mass[p] : 0.0;
     const double rho_l_V = n > 0 ? ml / n : 0.0;
     // Drag n gamma_w V / K: K is measured with clean water, whatever the
@@ -126,9 +125,10 @@ struct NodalFlux {
 };
 
 // After the skeleton's velocity gradient L (field) and volume are updated:
-// pore pressure rate, porosity and Darcy flux.
+// pore pressure rate, porosity and Darcy flux. Returns the first point whose
+// porosity fell to zero or below (grains are incompressible), or `end`.
 template <int D>
-void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
+std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
                    const NodalFlux& nodes, const double* L, const double* bulk, const double* vs,
                    const double* vl, double* n, double* pressure_rate, double* darcy) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -154,8 +154,10 @@ void porous_update(std::size_t begin, std::size_t end, int npp, double dt, const
     }
     pressure_rate[p] = -bulk[p] / n0 * (div_s + div_q);
     n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
+    if (!(n[p] > 0)) return p;
     for (int i = 0; i < D; ++i) darcy[p * D + i] = n[p] * (vl[p * D + i] - vs[p * D + i]);
   }
+  return end;
 }
 
 // Pressure smoothing, scatter half: volume-weighted nodal pressure rates.

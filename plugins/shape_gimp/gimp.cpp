@@ -54,9 +54,11 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
         valid[a][k] = node >= 0 && node < nodes[a];
         gimp_1d(x[p * D + a] - (o[a] + node * h[a]), h[a], lp, s1[a][k], d1[a][k]);
       }
-      for (int k = 0; k < 3; ++k) {
-        if (valid[a][k]) continue;
-        const int into = base[a] + k < 0 ? k + 1 : k - 1;  // the boundary node next to the missing one
+      // Outermost first, so a weight passed inwards is passed on again if
+      // the next node is missing too.
+      for (int k : {0, 1, 2, 1}) {
+        if (valid[a][k] || (s1[a][k] == 0 && d1[a][k] == 0)) continue;
+        const int into = base[a] + k < 0 ? k + 1 : k - 1;  // the neighbour towards the grid
         s1[a][into] += s1[a][k];
         d1[a][into] += d1[a][k];
         s1[a][k] = d1[a][k] = 0;

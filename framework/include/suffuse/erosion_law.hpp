@@ -26,6 +26,9 @@ struct ErosionBatch {
 class ErosionLaw {
  public:
   virtual ~ErosionLaw() = default;
+  // Called from several threads at once, on disjoint batches: write only the
+  // batch's `rate`, keep no mutable state. A rate that is not finite stops
+  // the run with an error naming the point.
   virtual void rate(const ErosionBatch& batch) const = 0;
 };
 

@@ -175,7 +175,7 @@ class Simulation {
   // Saturated runs only.
   bool saturated_ = false;  // some body has a pore liquid
   struct SaturatedFields {
-    FieldId porosity, pressure, liquid_velocity, conductivity, darcy_flux, liquid_density, liquid_mass,
+    FieldId porosity, pressure, liquid_velocity, conductivity, darcy_flux, liquid_density, liquid_mass, moving_liquid_mass,
         bulk_modulus, pressure_rate;
   } sf_{};
   std::vector<double> node_drag_, node_pressure_rate_, node_volume_;
