@@ -182,7 +182,9 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   nodes_.resize(grid_.node_count(), dim, saturated_);
   if (saturated_) {
     node_drag_.assign(grid_.node_count(), 0.0);
-    for (auto* v : {&node_pore_, &node_volume_all_, &node_liquid_, &node_fines_, &node_out_, &node_dliquid_,
+    node_darcy_.assign(grid_.node_count() * dim, 0.0);
+    node_face_.assign(grid_.node_count() * dim, 0.0);
+    for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_out_, &node_dliquid_,
                     &node_dfines_, &node_free_liquid_, &node_free_fines_})
       v->assign(grid_.node_count(), 0.0);
     setup_openings();
@@ -513,11 +515,20 @@ void Simulation::update_stress() {
            points_.data(f.velocity_gradient), points_.data(f.strain), points_.data(f.volume));
   });
   if (saturated_) {
+    // The nodal Darcy flux q_I = n_I (v_L - v_s)_I, n_I = sum N n rho_L V / sum N rho_L V:
+    // one field for the pressure rate (div q) and the transport.
+    const std::size_t dim = scene_.dim;
+    for_chunks(grid_.node_count(), [&](int, std::size_t b, std::size_t e) {
+      for (std::size_t I = b; I < e; ++I) {
+        const double inertia = nodes_.liquid_inertia[I];
+        const double nI = inertia > 0 ? nodes_.liquid_mass[I] / inertia : 0.0;
+        for (std::size_t i = 0; i < dim; ++i)
+          node_darcy_[I * dim + i] = nI * (nodes_.liquid_velocity[I * dim + i] - nodes_.velocity[I * dim + i]);
+      }
+    });
     auto porous = scene_.dim == 2 ? &detail::porous_update<2> : &detail::porous_update<3>;
     for_chunks(points_.size(), [&](int, std::size_t b, std::size_t e) {
-      const std::size_t bad = porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(),
-             detail::NodalFlux{nodes_.liquid_mass.data(), nodes_.liquid_inertia.data(),
-                               nodes_.liquid_velocity.data(), nodes_.velocity.data()},
+      const std::size_t bad = porous(b, e, npp_, dt_, node_ids_.data(), gradients_.data(), node_darcy_.data(),
              points_.data(f.velocity_gradient), points_.data(sf_.bulk_modulus), points_.data(f.velocity),
              points_.data(sf_.liquid_velocity), points_.data(sf_.porosity), points_.data(sf_.pressure_rate),
              points_.data(sf_.darcy_flux));

@@ -2,6 +2,7 @@
 // transport of the pore liquid and its suspended fines across the grid, and
 // the mass ledger. Formulation and verification: docs/erosion.md.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <ostream>
@@ -131,6 +132,8 @@ void Simulation::setup_openings() {
   }
   // Liquid leaving the body through a free surface inside the grid.
   discharge_.push_back({"free_surface", 0, 0, 0, 0});
+  discharge_step_.assign(discharge_.size(), {0, 0, 0, 0});
+  discharge_carry_.assign(discharge_.size(), {0, 0, 0, 0});
   if (fines_ || openings_.empty()) return;
   for (const Opening& o : openings_)
     if (o.concentration > 0) throw Error("a boundary brings fines into a scene without fines or erosion law");
@@ -195,26 +198,30 @@ void Simulation::transport_liquid() {
   const auto& f = points_.core();
   const double* V = points_.data(f.volume);
   const double* n = points_.data(sf_.porosity);
-  for (auto* v : {&node_pore_, &node_volume_all_, &node_liquid_, &node_fines_})
-    std::fill(v->begin(), v->end(), 0.0);
+  for (auto* v : {&node_pore_, &node_liquid_, &node_fines_}) std::fill(v->begin(), v->end(), 0.0);
   ScatterTargets targets;
   targets.add(node_pore_);
-  targets.add(node_volume_all_);
   targets.add(node_liquid_);
   if (fines_) targets.add(node_fines_);
   const double* fines = fines_ ? points_.data(ef_.suspended_fines) : nullptr;
   scatter(targets, [&](std::size_t b, std::size_t e, double* const* out) {
     detail::p2g_species(b, e, npp_, node_ids_.data(), weights_.data(), V, n, points_.data(sf_.liquid_mass), fines,
-                        out[0], out[1], out[2], fines_ ? out[3] : nullptr);
+                        out[0], out[1], fines_ ? out[2] : nullptr);
   });
 
-  const detail::TransportGrid g{grid_.nodes_per_axis(), grid_.cell_size(),  dt_,
-                                node_pore_.data(),      node_volume_all_.data(), node_liquid_.data(),
-                                fines_ ? node_fines_.data() : nullptr, nodes_.velocity.data(),
-                                nodes_.liquid_velocity.data(),  inflow_liquid_.data(),
+  const detail::TransportGrid g{grid_.nodes_per_axis(),
+                                grid_.cell_size(),
+                                dt_,
+                                node_pore_.data(),
+                                node_liquid_.data(),
+                                fines_ ? node_fines_.data() : nullptr,
+                                node_darcy_.data(),
+                                node_face_.data(),
+                                inflow_liquid_.data(),
                                 inflow_fines_.data()};
   const std::size_t nn = grid_.node_count();
   auto run = [&](auto transport) {
+    for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
     for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
     // Open faces: liquid leaving also counts against a node's content.
     for (const Opening& o : openings_)
@@ -225,15 +232,17 @@ void Simulation::transport_liquid() {
       transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_free_liquid_.data(),
                          node_free_fines_.data());
     });
-    // Free surfaces: summed in node order, independent of the chunking.
-    BoundaryDischarge& free = discharge_.back();
+    // What crossed each account this step, summed in node order (independent
+    // of the chunking), then added to the run's totals with compensated
+    // summation: the totals grow large and the step's share stays small.
+    std::vector<std::array<double, 4>>& step = discharge_step_;  // out, in of liquid; out, in of fines
+    for (auto& a : step) a = {0, 0, 0, 0};
     for (std::size_t I = 0; I < nn; ++I) {
-      free.liquid_out += node_free_liquid_[I];
-      free.fines_out += node_free_fines_[I];
+      step.back()[0] += node_free_liquid_[I];
+      step.back()[2] += node_free_fines_[I];
     }
     for (std::size_t k = 0; k < openings_.size(); ++k) {
-      const Opening& o = openings_[k];
-      BoundaryDischarge& d = discharge_[k];  // the free surfaces' account is the last
+      const Opening& o = openings_[k];  // the free surfaces' account is the last
       for (const OpeningNode& on : o.nodes) {
         const std::int64_t I = on.node;
         if (node_pore_[I] <= 0) continue;
@@ -243,17 +252,28 @@ void Simulation::transport_liquid() {
           const double liquid = share * node_liquid_[I], fines_out = fines_ ? share * node_fines_[I] : 0.0;
           node_dliquid_[I] -= liquid;
           node_dfines_[I] -= fines_out;
-          d.liquid_out += liquid;
-          d.fines_out += fines_out;
+          step[k][0] += liquid;
+          step[k][2] += fines_out;
         } else if (vol < 0) {
           const double c = o.concentration;
           const double liquid = -vol * (c * o.grain_density + (1 - c) * o.water_density);
           const double fines_in = -vol * c * o.grain_density;
           node_dliquid_[I] += liquid;
           node_dfines_[I] += fines_in;
-          d.liquid_in += liquid;
-          d.fines_in += fines_in;
+          step[k][1] += liquid;
+          step[k][3] += fines_in;
         }
+      }
+    }
+    for (std::size_t k = 0; k < discharge_.size(); ++k) {
+      BoundaryDischarge& d = discharge_[k];
+      double* totals[4] = {&d.liquid_out, &d.liquid_in, &d.fines_out, &d.fines_in};
+      for (int i = 0; i < 4; ++i) {
+        // Kahan: carry the low-order bits the addition drops.
+        double& c = discharge_carry_[k][i];
+        const double y = step[k][i] - c, t = *totals[i] + y;
+        c = (t - *totals[i]) - y;
+        *totals[i] = t;
       }
     }
   };

@@ -60,10 +60,10 @@ inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const S
   }
 }
 
-// Scatter: pore volume, volume, liquid and suspended fines of the nodes.
+// Scatter: pore volume, liquid and suspended fines of the nodes.
 inline void p2g_species(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
                         const double* volume, const double* n, const double* liquid, const double* fines,
-                        double* node_pore, double* node_volume, double* node_liquid, double* node_fines) {
+                        double* node_pore, double* node_liquid, double* node_fines) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // a dry point holds no liquid
     const double pore = n[p] * volume[p];
@@ -71,24 +71,22 @@ inline void p2g_species(std::size_t begin, std::size_t end, int npp, const std::
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
       node_pore[I] += w[k] * pore;
-      node_volume[I] += w[k] * volume[p];
       node_liquid[I] += w[k] * liquid[p];
       if (fines) node_fines[I] += w[k] * fines[p];
     }
   }
 }
 
-// The grid the transport runs on: nodal amounts and velocities.
+// The grid the transport runs on: nodal amounts and Darcy fluxes.
 struct TransportGrid {
   std::array<int, 3> nodes;   // per axis
   std::array<double, 3> h;    // cell size
   double dt;
   const double* pore;         // sum N n V [m^3]
-  const double* volume;       // sum N V
   const double* liquid;       // sum N m_L [kg]
   const double* fines;        // sum N m_f [kg], may be null
-  const double* solid_velocity;
-  const double* liquid_velocity;
+  const double* darcy;        // D per node: the nodal Darcy flux n_I (v_L - v_s)_I, as the pressure uses it
+  double* face;               // D per node: volume crossing the face to I + e_a this step (pass 0 fills it)
   // Per node and axis (node * D + axis): the liquid and fines per volume
   // entering through an open grid face at that node; NaN elsewhere.
   const double* inflow_liquid;
@@ -116,18 +114,24 @@ struct Transport {
       if (b != a) area *= g.h[b] * ((c[b] == 0 || c[b] == g.nodes[b] - 1) ? 0.5 : 1.0);
     return area;
   }
-  // Darcy flux component a at node I: n_I (v_L - v_s).
-  double darcy(std::int64_t I, int a) const {
-    if (g.pore[I] <= 0) return 0.0;
-    return g.pore[I] / g.volume[I] * (g.liquid_velocity[I * D + a] - g.solid_velocity[I * D + a]);
+  // Darcy flux component a at node I (zero where the node holds no liquid).
+  double darcy(std::int64_t I, int a) const { return g.pore[I] > 0 ? g.darcy[I * D + a] : 0.0; }
+
+  // Pass 0: the volume of liquid crossing each face between I and I + e_a in
+  // one step, positive towards I + e_a; zero unless both nodes hold liquid.
+  void faces(std::size_t begin, std::size_t end) const {
+    for (std::size_t n = begin; n < end; ++n) {
+      const auto I = static_cast<std::int64_t>(n);
+      const auto c = ijk(I);
+      for (int a = 0; a < D; ++a) {
+        double vol = 0;
+        if (c[a] < g.nodes[a] - 1 && g.pore[I] > 0 && g.pore[I + stride(a)] > 0)
+          vol = g.dt * face_area(c, a) * 0.5 * (darcy(I, a) + darcy(I + stride(a), a));
+        g.face[n * D + a] = vol;
+      }
+    }
   }
-  // Volume of liquid crossing the face between I and I + e_a in one step,
-  // positive towards I + e_a. Zero unless both nodes hold liquid.
-  double face_volume(std::int64_t I, int a, const std::array<int, 3>& c) const {
-    const std::int64_t J = I + stride(a);
-    if (g.pore[I] <= 0 || g.pore[J] <= 0) return 0.0;
-    return g.dt * face_area(c, a) * 0.5 * (darcy(I, a) + darcy(J, a));
-  }
+  double face_volume(std::int64_t I, int a, const std::array<int, 3>&) const { return g.face[I * D + a]; }
 
   // A free surface is a face between a node with liquid and a grid node
   // without: the weak form leaves p = 0 there (drained), so liquid may leave

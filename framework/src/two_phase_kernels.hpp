@@ -120,28 +120,20 @@ void g2p_liquid(std::size_t begin, std::size_t end, int npp, double dt, const st
   }
 }
 
-struct NodalFlux {
-  const double *liquid_mass, *liquid_inertia, *liquid_velocity, *solid_velocity;
-};
-
 // After the skeleton's velocity gradient L (field) and volume are updated:
 // pore pressure rate, porosity and Darcy flux. Returns the first point whose
 // porosity fell to zero or below (grains are incompressible), or `end`.
 template <int D>
 std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
-                   const NodalFlux& nodes, const double* L, const double* bulk, const double* vs,
+                   const double* node_q, const double* L, const double* bulk, const double* vs,
                    const double* vl, double* n, double* pressure_rate, double* darcy) {
   for (std::size_t p = begin; p < end; ++p) {
-    // div q with the nodal Darcy flux q_I = n_I (v_L - v_s)_I: the porosity
-    // gradient counts (erosion makes porosity vary), as in the transport.
+    // div q with the nodal Darcy flux: the porosity gradient counts (erosion
+    // makes porosity vary), as in the transport.
     double div_q = 0;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      if (nodes.liquid_inertia[I] <= 0) continue;
-      const double nI = nodes.liquid_mass[I] / nodes.liquid_inertia[I];
-      for (int i = 0; i < D; ++i)
-        div_q += nI * (nodes.liquid_velocity[I * D + i] - nodes.solid_velocity[I * D + i]) * dw[k * D + i];
+      for (int i = 0; i < D; ++i) div_q += node_q[ids[k] * D + i] * dw[k * D + i];
     }
     const double* l = L + p * D * D;
     double div_s = 0;

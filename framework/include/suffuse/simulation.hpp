@@ -200,8 +200,10 @@ class Simulation {
   };
   std::vector<Opening> openings_;
   std::vector<BoundaryDischarge> discharge_;  // per opening, cumulative
+  std::vector<std::array<double, 4>> discharge_step_, discharge_carry_;  // this step's share; summation carry
   double initial_solid_ = 0, initial_liquid_ = 0, initial_fines_ = 0;
-  std::vector<double> node_pore_, node_volume_all_, node_liquid_, node_fines_, node_out_, node_dliquid_,
+  std::vector<double> node_darcy_, node_face_;  // dim per node: nodal Darcy flux, face volumes of the transport
+  std::vector<double> node_pore_, node_liquid_, node_fines_, node_out_, node_dliquid_,
       node_dfines_, node_free_liquid_, node_free_fines_;
   std::vector<double> inflow_liquid_, inflow_fines_;  // per node and axis: what enters per volume, NaN: no inlet
   std::vector<std::string> body_names_;
