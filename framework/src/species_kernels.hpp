@@ -3,7 +3,8 @@
 // erosion moves solid from the skeleton to the liquid at the points; the
 // liquid and its suspended fines then move across the grid with the Darcy
 // flux, by a finite-volume scheme on the dual cells of the nodes (MUSCL with
-// the van Leer limiter). Every exchange is a transfer between two accounts, so the mass of
+// the van Leer limiter; the fines as the liquid times its limited fines
+// fraction). Every exchange is a transfer between two accounts, so the mass of
 // each species is conserved to round-off.
 #include <algorithm>
 #include <array>
@@ -165,42 +166,56 @@ struct Transport {
   }
 
   // Share of its content a node may send this step: 1, or less when the
-  // outflow would exceed half its pore volume. The limited face value is at
-  // most twice the node's own, so no amount can turn negative.
+  // outflow would exceed a quarter of its pore volume (see face_transfer).
   double scale(std::int64_t I, const double* out) const {
-    return 2 * out[I] > g.pore[I] ? g.pore[I] / (2 * out[I]) : 1.0;
+    return 4 * out[I] > g.pore[I] ? g.pore[I] / (4 * out[I]) : 1.0;
   }
 
-  // Amount of a quantity (given per node, `amount`; carried per pore volume)
-  // crossing the face between I and I + e_a. Face value: the upwind node's,
-  // plus half its van Leer limited slope (MUSCL): second order where the
-  // profile is smooth, upwind at extrema, no new extrema (TVD). Both nodes of
-  // a face compute the same bits.
-  double face_transfer(std::int64_t I, int a, const std::array<int, 3>& c, const double* amount,
-                       const double* inflow, const double* out) const {
+  // MUSCL face value of a per-node quantity: the upwind node's, plus half its
+  // van Leer limited slope. Second order where the profile is smooth, upwind
+  // at extrema, no new extrema (TVD); at most twice the upwind value.
+  // `far` is the value upstream of the upwind node (NaN: none).
+  static double limited(double up, double down, double far) {
+    if (std::isnan(far)) return up;
+    const double s_back = up - far, s_ahead = down - up;
+    return s_back * s_ahead > 0 ? up + s_back * s_ahead / (s_back + s_ahead) : up;  // half the harmonic mean
+  }
+
+  // Liquid and fines crossing the face between I and I + e_a, positive
+  // towards I + e_a. The liquid's face value is limited per pore volume;
+  // the fines' is the liquid's times the limited fines-to-liquid ratio, so
+  // the water crossing is never negative. A node sends at most a quarter of
+  // its pore volume per step: with face values at most twice the node's,
+  // neither amount can turn negative. Both nodes of a face compute the same
+  // bits.
+  void face_transfer(std::int64_t I, int a, const std::array<int, 3>& c, const double* out, double& liquid,
+                     double& fines) const {
+    liquid = fines = 0;
     const double vol = face_volume(I, a, c);
-    if (vol == 0) return 0.0;
+    if (vol == 0) return;
     const bool forward = vol > 0;
     const std::int64_t up = forward ? I : I + stride(a), down = forward ? I + stride(a) : I;
-    const double r_up = amount[up] / g.pore[up], r_down = amount[down] / g.pore[down];
-    double value = r_up;
-    const int up_index = forward ? c[a] : c[a] + 1;
-    const bool has_far = forward ? up_index > 0 : up_index < g.nodes[a] - 1;
     // Upstream of the upwind node: its neighbour, or at an inlet face what
     // enters there (the boundary node's dual cell is half a cell).
-    double r_far = std::numeric_limits<double>::quiet_NaN();
+    const int up_index = forward ? c[a] : c[a] + 1;
+    const bool has_far = forward ? up_index > 0 : up_index < g.nodes[a] - 1;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    double far_liquid = nan, far_ratio = nan;
     if (has_far) {
       const std::int64_t far = forward ? up - stride(a) : up + stride(a);
-      if (g.pore[far] > 0) r_far = amount[far] / g.pore[far];
-    } else {
-      r_far = inflow[up * D + a];
+      if (g.pore[far] > 0) {
+        far_liquid = g.liquid[far] / g.pore[far];
+        if (g.fines) far_ratio = ratio(far);
+      }
+    } else if (!std::isnan(g.inflow_liquid[up * D + a])) {
+      far_liquid = g.inflow_liquid[up * D + a];
+      far_ratio = g.inflow_fines[up * D + a] / far_liquid;
     }
-    if (!std::isnan(r_far)) {
-      const double s_back = r_up - r_far, s_ahead = r_down - r_up;
-      if (s_back * s_ahead > 0) value += s_back * s_ahead / (s_back + s_ahead);  // half the harmonic mean
-    }
-    return scale(up, out) * vol * value;
+    const double value = limited(g.liquid[up] / g.pore[up], g.liquid[down] / g.pore[down], far_liquid);
+    liquid = scale(up, out) * vol * value;
+    if (g.fines) fines = liquid * limited(ratio(up), ratio(down), far_ratio);
   }
+  double ratio(std::int64_t I) const { return g.liquid[I] > 0 ? g.fines[I] / g.liquid[I] : 0.0; }
 
   // Pass 2: net change of liquid and fines at each node from its interior faces.
   // Also writes what each node loses through free surfaces.
@@ -211,15 +226,18 @@ struct Transport {
       const auto c = ijk(I);
       double dl = 0, df = 0;
       for (int a = 0; a < D; ++a) {
+        double liquid, fines;
         if (c[a] < g.nodes[a] - 1) {
-          dl -= face_transfer(I, a, c, g.liquid, g.inflow_liquid, out);
-          if (g.fines) df -= face_transfer(I, a, c, g.fines, g.inflow_fines, out);
+          face_transfer(I, a, c, out, liquid, fines);
+          dl -= liquid;
+          df -= fines;
         }
         if (c[a] > 0) {
           auto below = c;
           --below[a];
-          dl += face_transfer(I - stride(a), a, below, g.liquid, g.inflow_liquid, out);
-          if (g.fines) df += face_transfer(I - stride(a), a, below, g.fines, g.inflow_fines, out);
+          face_transfer(I - stride(a), a, below, out, liquid, fines);
+          dl += liquid;
+          df += fines;
         }
       }
       // Free-surface outflow: what the node sends out of the liquid region.
