@@ -166,16 +166,19 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   }
   for (const LiquidSpec& l : scene.liquids)
     liquids_.push_back(registry.create<Liquid>(l.liquid.type, {l.liquid.params, dim, l.liquid.pointer}));
-  saturated_ = scene.saturated();
-  fines_ = scene.erodible();
-  for (const BodySpec& b : scene.bodies) fines_ = fines_ || b.fines_content > 0 || b.concentration > 0;
-  if (saturated_) {
-    add_saturated_fields();
-    add_species_fields();
-  }
   for (const PluginNode& bc : scene.boundary_conditions) {
     bcs_.push_back(registry.create<BoundaryCondition>(bc.type, {bc.params, dim, bc.pointer}));
     bcs_.back()->setup(grid_);
+  }
+  saturated_ = scene.saturated();
+  // Fines are tracked when a body holds some, a material erodes, or an inlet brings them.
+  fines_ = scene.erodible();
+  for (const BodySpec& b : scene.bodies) fines_ = fines_ || b.fines_content > 0 || b.concentration > 0;
+  for (const auto& bc : bcs_)
+    for (const LiquidOpening& o : bc->liquid_openings()) fines_ = fines_ || o.concentration > 0;
+  if (saturated_) {
+    add_saturated_fields();
+    add_species_fields();
   }
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));

@@ -134,9 +134,6 @@ void Simulation::setup_openings() {
   discharge_.push_back({"free_surface", 0, 0, 0, 0});
   discharge_step_.assign(discharge_.size(), {0, 0, 0, 0});
   discharge_carry_.assign(discharge_.size(), {0, 0, 0, 0});
-  if (fines_ || openings_.empty()) return;
-  for (const Opening& o : openings_)
-    if (o.concentration > 0) throw Error("a boundary brings fines into a scene without fines or erosion law");
 }
 
 void Simulation::erode() {
