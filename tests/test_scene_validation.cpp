@@ -376,12 +376,13 @@ TEST(SceneValidation, AllErrorsAreReportedTogether) {
 }
 
 // ---------------------------------------------------------------------------
-// Correct behaviour that the validator does not have yet (see the comments).
+// Regressions: each case below once threw or reported twice instead of
+// giving one diagnostic (the comments say where, and how it failed).
 
 TEST(SceneValidation, OutOfRangeDampingIsADiagnostic) {
-  // BUG (framework/src/scene.cpp, SceneReader::read): top.number("damping") is
-  // read unconditionally; when validation rejected the value there is neither
-  // a value nor a default, so Parameters::number throws suffuse::Error
+  // Was (framework/src/scene.cpp, SceneReader::read): top.number("damping") was
+  // read unconditionally; when validation rejected the value there was neither
+  // a value nor a default, so Parameters::number threw suffuse::Error
   // ("parameter 'damping' was not declared in the schema or has no value")
   // instead of a SceneError carrying the diagnostic. Same for "description"
   // and "gravity" (when dimension is valid) and for /time/cfl in read_time.
@@ -391,7 +392,7 @@ TEST(SceneValidation, OutOfRangeDampingIsADiagnostic) {
 }
 
 TEST(SceneValidation, OutOfRangeCflIsADiagnostic) {
-  // BUG (framework/src/scene.cpp, read_time): t.number("cfl") throws
+  // Was (framework/src/scene.cpp, read_time): t.number("cfl") threw
   // suffuse::Error when the given cfl failed validation.
   json j = base_scene();
   j["time"]["cfl"] = 2;
@@ -399,8 +400,8 @@ TEST(SceneValidation, OutOfRangeCflIsADiagnostic) {
 }
 
 TEST(SceneValidation, GravityOfWrongTypeIsADiagnostic) {
-  // BUG (framework/src/scene.cpp, SceneReader::read): top.vector("gravity")
-  // throws suffuse::Error when the given gravity failed validation.
+  // Was (framework/src/scene.cpp, SceneReader::read): top.vector("gravity")
+  // threw suffuse::Error when the given gravity failed validation.
   json j = base_scene();
   j["gravity"] = "down";
   const std::vector<Diagnostic> diags = diagnostics_of(j);
@@ -414,10 +415,10 @@ TEST(SceneValidation, GravityOfWrongTypeIsADiagnostic) {
 }
 
 TEST(SceneValidation, WrongKindOfWriterIsReportedOnlyOnce) {
-  // BUG (framework/src/scene.cpp, read_outputs): when /outputs/N/type names a
-  // plugin of another kind, the keys of the node are checked by the core
+  // Was (framework/src/scene.cpp, read_outputs): when /outputs/N/type names a
+  // plugin of another kind, the keys of the node were checked by the core
   // "output" schema against that other plugin's keys, so a valid writer key
-  // such as "compress" is also reported as an unknown key.
+  // such as "compress" was also reported as an unknown key.
   json j = base_scene();
   j["outputs"][0] = {{"type", "phase/linear_elastic"}, {"compress", false}, {"interval", 0.4}};
   expect_diagnostics(j, {{"/outputs/0/type", "plugin of the wrong kind (phase)",
@@ -425,16 +426,16 @@ TEST(SceneValidation, WrongKindOfWriterIsReportedOnlyOnce) {
 }
 
 TEST(SceneValidation, DescriptionOfWrongTypeIsADiagnostic) {
-  // BUG (framework/src/scene.cpp, SceneReader::read): top.string("description")
-  // throws suffuse::Error when the given description failed validation.
+  // Was (framework/src/scene.cpp, SceneReader::read): top.string("description")
+  // threw suffuse::Error when the given description failed validation.
   json j = base_scene();
   j["description"] = 5;
   expect_diagnostics(j, {{"/description", "wrong type", "string", "5", "core (scene)"}});
 }
 
 TEST(SceneValidation, UnknownKeyInOutputIsReportedOnce) {
-  // BUG (framework/src/scene.cpp, read_outputs): an unknown key of a writer
-  // node is reported twice, once by the writer plugin's schema (in
+  // Was (framework/src/scene.cpp, read_outputs): an unknown key of a writer
+  // node was reported twice, once by the writer plugin's schema (in
   // plugin_node) and once by the core "output" schema.
   json j = base_scene();
   j["outputs"][0]["intervall"] = 0.4;

@@ -109,7 +109,7 @@ void Simulation::setup_openings() {
         if (other.face.axis == o.face.axis && other.face.upper == o.face.upper)
           throw Error("two boundary conditions open the same grid face to the liquid; its outflow would be counted "
                       "twice: keep one bc/pore_pressure or bc/inflow_flux per face");
-      Opening opening{o.face, o.concentration, rho_s, rho_w, {}};
+      Opening opening{o.face, {}};
       for (std::int64_t I : face_nodes(grid_, o.face)) {
         const auto ijk = grid_.node_ijk(I);
         double area = 1;
@@ -252,9 +252,9 @@ void Simulation::transport_liquid() {
           step[k][0] += liquid;
           step[k][2] += fines_out;
         } else if (vol < 0) {
-          const double c = o.concentration;
-          const double liquid = -vol * (c * o.grain_density + (1 - c) * o.water_density);
-          const double fines_in = -vol * c * o.grain_density;
+          // What enters per volume, set once per face node in setup_openings.
+          const std::size_t at = static_cast<std::size_t>(I) * scene_.dim + o.face.axis;
+          const double liquid = -vol * inflow_liquid_[at], fines_in = -vol * inflow_fines_[at];
           node_dliquid_[I] += liquid;
           node_dfines_[I] += fines_in;
           step[k][1] += liquid;

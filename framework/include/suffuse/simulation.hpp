@@ -106,7 +106,6 @@ class Simulation {
   double total_mass() const;
   // Saturated runs: the mass of every species now (throws in dry runs).
   MassLedger mass_ledger() const;
-  bool has_fines() const { return fines_; }
   std::array<double, 3> total_momentum() const;
   // The automatic time step: cfl * h_min / max over materials of sqrt(M / rho).
   double critical_time_step() const;
@@ -193,9 +192,8 @@ class Simulation {
     std::int64_t node;
     double area;
   };
-  struct Opening {
+  struct Opening {  // what enters per volume is in inflow_liquid_ / inflow_fines_
     GridFace face;
-    double concentration = 0, grain_density = 0, water_density = 0;  // of the liquid entering
     std::vector<OpeningNode> nodes;
   };
   std::vector<Opening> openings_;
