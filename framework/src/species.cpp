@@ -155,14 +155,14 @@ void Simulation::erode() {
       double* fc = points_.data(ef_.fines_content);
       double* c = points_.data(ef_.concentration);
       double* grad = points_.data(ef_.hydraulic_gradient);
+      const double* rho_w = points_.data(ef_.water_density);
       for (std::size_t p = begin; p < end; ++p) {
         double q2 = 0;
         for (int i = 0; i < dim; ++i) q2 += q[p * dim + i] * q[p * dim + i];
         flux_magnitude_[p] = std::sqrt(q2);
         grad[p] = flux_magnitude_[p] / K[p];  // Darcy: q = K i
         fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
-        c[p] = detail::suspended_concentration(pt.suspended_fines[p], pt.liquid_mass[p], pt.grain_density[p],
-                                               points_.data(ef_.water_density)[p]);
+        c[p] = detail::suspended_concentration(pt.suspended_fines[p], pt.liquid_mass[p], pt.grain_density[p], rho_w[p]);
       }
       auto span = [&](FieldId id) { return std::span<const double>(points_.data(id) + begin, count); };
       double* rate = points_.data(ef_.erosion_rate);
