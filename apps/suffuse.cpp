@@ -185,8 +185,7 @@ int cmd_reference() {
   for (const auto& s : suffuse::core_sections())
     std::cout << "### " << s.name << "\n\n" << s.description << ".\n\n" << markdown_table(s.schema) << "\n";
   std::cout << "## Plugins\n\n";
-  for (auto kind : {suffuse::PluginKind::ShapeFunction, suffuse::PluginKind::Phase, suffuse::PluginKind::ErosionLaw,
-                    suffuse::PluginKind::BoundaryCondition, suffuse::PluginKind::Writer}) {
+  for (auto kind : suffuse::all_plugin_kinds) {
     for (const auto& name : registry.names_of(kind)) {
       const suffuse::PluginInfo* info = registry.find(name);
       std::cout << "### " << name << " (" << suffuse::to_string(kind) << ")\n\n"
@@ -248,7 +247,7 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
     if (scene.mass_scaling != 1)
       std::cout << "  mass scaling " << scene.mass_scaling
                 << ": every inertia is multiplied by it (quasi-static use only)\n";
-    for (std::size_t l = 0; l < scene.liquids.size(); ++l) {
+    for (std::size_t l = 0; sim.saturated() && l < scene.liquids.size(); ++l) {
       // A lowered bulk modulus is a numerical choice that changes the physics: say it.
       const double KL = sim.liquid(l).bulk_modulus();
       std::cout << "  liquid '" << scene.liquids[l].name << "': bulk modulus " << KL << " Pa"
@@ -282,10 +281,16 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
     std::cout << "done: " << s.steps << " steps to t = " << s.simulated_time << " s in "
               << format_duration(s.wall_seconds) << "; " << std::setprecision(3) << s.point_updates_per_second / 1e6
               << " million point updates per second\n"
-              << "  stage times [s]: shape " << t.shape << ", reset " << t.reset << ", p2g " << t.p2g << ", grid "
-              << t.grid_update << ", g2p " << t.g2p << ", remap " << t.remap << ", stress " << t.stress;
-    if (s.ledger) std::cout << ", erosion " << t.erosion << ", transport " << t.transport;
-    std::cout << ", output " << t.output << "\n";
+              << "  stage times [s]:";
+    // The stages this run has (a dry run has no pore pressure, erosion or transport).
+    const char* sep = " ";
+    for (std::size_t k = 0; k < suffuse::stage_count; ++k) {
+      const auto stage = static_cast<suffuse::Stage>(k);
+      if (t[stage] == 0 && stage != suffuse::Stage::output) continue;
+      std::cout << sep << suffuse::stage_name(stage) << " " << t[stage];
+      sep = ", ";
+    }
+    std::cout << "\n";
     if (s.ledger) print_ledger(*s.ledger, scene.dim, scene.name);
   }
   return 0;

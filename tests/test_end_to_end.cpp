@@ -179,7 +179,7 @@ TEST(EndToEnd, CommandsForPluginsAndHelp) {
   EXPECT_EQ(run("describe phase/nonexistent", out / "bad.txt"), 1);
   EXPECT_NE(slurp(out / "bad.txt").find("no plugin or core section named 'phase/nonexistent'"), std::string::npos);
   EXPECT_EQ(run("--version", out / "version.txt"), 0);
-  EXPECT_NE(slurp(out / "version.txt").find("suffuse 0.2.0"), std::string::npos);
+  EXPECT_NE(slurp(out / "version.txt").find("suffuse 0.3.0"), std::string::npos);
   EXPECT_EQ(run("--help", out / "help.txt"), 0);
   EXPECT_NE(slurp(out / "help.txt").find("suffuse run SCENE.json"), std::string::npos);
   EXPECT_EQ(run("frobnicate", out / "unknown.txt"), 2);

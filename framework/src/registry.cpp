@@ -5,13 +5,11 @@ namespace suffuse {
 
 std::string to_string(PluginKind kind) {
   switch (kind) {
-    case PluginKind::ShapeFunction: return "shape function";
-    case PluginKind::Phase: return "phase";
-    case PluginKind::ErosionLaw: return "erosion law";
-    case PluginKind::BoundaryCondition: return "boundary condition";
-    case PluginKind::Writer: return "writer";
-    case PluginKind::Liquid: return "liquid";
-    case PluginKind::PermeabilityLaw: return "permeability law";
+#define SUFFUSE_KIND_NAME(type, name) \
+  case PluginKind::type:              \
+    return name;
+    SUFFUSE_PLUGIN_KINDS(SUFFUSE_KIND_NAME)
+#undef SUFFUSE_KIND_NAME
   }
   return "?";
 }

@@ -3,10 +3,14 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
+#include "domain.hpp"
+#include "saturated_mixture.hpp"
+#include "species_transport.hpp"
+#include "stage_timer.hpp"
 #include "suffuse/error.hpp"
 #include "suffuse/simulation.hpp"
 #include "suffuse/version.hpp"
@@ -20,19 +24,19 @@ void Simulation::write_run_info(const std::filesystem::path& file) const {
   info["suffuse_version"] = framework_version;
   info["scene"] = scene_.file.string();
   info["dimension"] = scene_.dim;
-  info["points"] = points_.size();
-  info["time_step"] = dt_;
+  info["points"] = domain_->points.size();
+  info["time_step"] = clock_.nominal_dt();
   info["time_step_mode"] = scene_.dt ? "fixed" : "automatic";
   info["cfl"] = scene_.cfl;
   info["mass_scaling"] = scene_.mass_scaling;
   info["end_time"] = scene_.end_time;
   info["damping"] = scene_.damping;
-  info["threads"] = threads_;
-  info["saturated"] = saturated_;
-  for (std::size_t l = 0; l < liquids_.size(); ++l) {
-    info["liquids"][scene_.liquids[l].name] = {{"density", liquids_[l]->density()},
-                                               {"bulk_modulus", liquids_[l]->bulk_modulus()},
-                                               {"viscosity", liquids_[l]->viscosity()}};
+  info["threads"] = threads();
+  info["saturated"] = saturated();
+  for (std::size_t l = 0; mixture_ && l < scene_.liquids.size(); ++l) {
+    const Liquid& liquid = mixture_->liquid(l);
+    info["liquids"][scene_.liquids[l].name] = {
+        {"density", liquid.density()}, {"bulk_modulus", liquid.bulk_modulus()}, {"viscosity", liquid.viscosity()}};
   }
   std::ofstream out(file);
   out << info.dump(2) << "\n";
@@ -62,67 +66,60 @@ RunSummary Simulation::run(const RunOptions& options) {
   std::ofstream ledger;
   const double ledger_interval = end / 200;
   double next_ledger = ledger_interval;
-  if (saturated_ && !options.output_dir.empty()) {
+  if (species_ && !options.output_dir.empty()) {
     std::filesystem::create_directories(options.output_dir);
     const auto file = options.output_dir / (scene_.name + ".ledger.csv");
     ledger.open(file);
     if (!ledger) throw Error("cannot write " + file.string());
-    write_ledger_row(ledger, true);
+    species_->write_ledger_row(ledger, clock_.time(), true);
     ledger.flush();
   }
   auto write = [&](std::size_t w) {
-    const auto t0 = Clock::now();
-    writers_[w]->write(OutputFrame{points_, grid_, step_, time_});
-    times_.output += std::chrono::duration<double>(Clock::now() - t0).count();
+    detail::StageTimer timer(times_, Stage::output);
+    writers_[w]->write(OutputFrame{domain_->points, domain_->grid, clock_.steps(), clock_.time()});
   };
   for (std::size_t w = 0; w < writers_.size(); ++w) {
     write(w);
     next[w] = interval[w];
   }
 
-  const double dt_nominal = dt_;
-  const double t0 = time_;
-  const std::size_t first_step = step_;
-  // Time is t0 + k dt, not a running sum, so round-off neither adds a tiny
-  // last step nor delays frames; eps absorbs the last bits.
-  const double eps = 1e-9 * dt_nominal;
-  std::size_t k = 0;
-  while (time_ < end - eps) {
-    dt_ = std::min(dt_nominal, end - time_);
+  const std::size_t first_step = clock_.steps();
+  const double eps = 1e-9 * clock_.nominal_dt();
+  clock_.run_until(end);
+  while (!clock_.reached_end()) {
+    const double dt = clock_.dt();
     step();
-    ++k;
-    time_ = std::min(end, t0 + static_cast<double>(k) * dt_nominal);
-    if (time_ >= end - eps) time_ = end;
+    const double now = clock_.time();
     for (std::size_t w = 0; w < writers_.size(); ++w) {
-      if (time_ >= next[w] - eps || time_ >= end) {
+      if (now >= next[w] - eps || now >= end) {
         write(w);
         // The next multiple of the interval after now (one frame per step at most).
-        next[w] = (std::floor((time_ + eps) / interval[w]) + 1) * interval[w];
+        next[w] = (std::floor((now + eps) / interval[w]) + 1) * interval[w];
       }
     }
-    if (ledger.is_open() && (time_ >= next_ledger - eps || time_ >= end)) {
-      write_ledger_row(ledger, false);
+    if (ledger.is_open() && (now >= next_ledger - eps || now >= end)) {
+      species_->write_ledger_row(ledger, now, false);
       ledger.flush();
-      next_ledger = (std::floor((time_ + eps) / ledger_interval) + 1) * ledger_interval;
+      next_ledger = (std::floor((now + eps) / ledger_interval) + 1) * ledger_interval;
     }
     if (options.on_step) {
-      options.on_step(Progress{step_, time_, end, dt_, points_.size(),
+      options.on_step(Progress{clock_.steps(), now, end, dt, domain_->points.size(),
                                std::chrono::duration<double>(Clock::now() - start).count()});
     }
   }
-  dt_ = dt_nominal;
+  clock_.run_until(std::numeric_limits<double>::infinity());
   for (auto& w : writers_) w->close();
 
   RunSummary summary;
-  summary.steps = step_ - first_step;
-  summary.points = points_.size();
-  summary.simulated_time = time_;
+  summary.steps = clock_.steps() - first_step;
+  summary.points = domain_->points.size();
+  summary.simulated_time = clock_.time();
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const double stepping = summary.wall_seconds - times_.output;
+  const double stepping = summary.wall_seconds - times_[Stage::output];
   summary.point_updates_per_second =
       stepping > 0 ? static_cast<double>(summary.steps) * static_cast<double>(summary.points) / stepping : 0.0;
   summary.stages = times_;
-  if (saturated_) summary.ledger = mass_ledger();
+  if (species_) summary.ledger = mass_ledger();
   return summary;
 }
 

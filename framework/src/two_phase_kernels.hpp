@@ -8,27 +8,10 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "solid_kernels.hpp"
 #include "suffuse/liquid.hpp"
 
 namespace suffuse::detail {
-
-constexpr int voigt_index(int i, int j) {
-  if (i == j) return i;
-  const int s = i + j;
-  return s == 3 ? 3 : (s == 2 ? 4 : 5);
-}
-
-// det(I + L dt) for a row-major D x D velocity gradient L: the volume ratio of a step.
-template <int D>
-double step_jacobian(const double* l, double dt) {
-  if constexpr (D == 2) {
-    return (1 + l[0] * dt) * (1 + l[3] * dt) - l[1] * l[2] * dt * dt;
-  } else {
-    const double a = 1 + l[0] * dt, b = l[1] * dt, c = l[2] * dt, d = l[3] * dt, e = 1 + l[4] * dt;
-    const double f = l[5] * dt, g = l[6] * dt, h = l[7] * dt, i = 1 + l[8] * dt;
-    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
-  }
-}
 
 // Nodal targets of the saturated points-to-grid scatter.
 struct SaturatedNodes {
@@ -99,34 +82,21 @@ void grid_update_saturated(std::size_t begin, std::size_t end, double dt, double
       const double vs_old = ps[I * D + i] / ms[I];
       const double vl_old = ml[I] > 0 ? pl[I * D + i] / ml[I] : vs_old;
       const double al = inertia[I] > 0 ? (fl[I * D + i] - drag[I] * (vl_old - vs_old)) / inertia[I] : 0.0;
-      double fs = f[I * D + i] - ml[I] * al;
-      if (damping > 0 && vs_old != 0) fs -= damping * std::abs(fs) * (vs_old > 0 ? 1.0 : -1.0);
+      const double fs = damped(f[I * D + i] - ml[I] * al, vs_old, damping);
       vs[I * D + i] = vs_old + fs / ms[I] * dt;
       vl[I * D + i] = vl_old + al * dt;
     }
   }
 }
 
-template <int D>
-void g2p_liquid(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* w,
-                const double* node_acc, double* vl) {
-  for (std::size_t p = begin; p < end; ++p) {
-    double dv[D] = {};
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      for (int i = 0; i < D; ++i) dv[i] += w[k] * node_acc[ids[k] * D + i];
-    }
-    for (int i = 0; i < D; ++i) vl[p * D + i] += dt * dv[i];
-  }
-}
-
 // After the skeleton's velocity gradient L (field) and volume are updated:
 // pore pressure rate, porosity and Darcy flux. Returns the first point whose
 // porosity fell to zero or below (grains are incompressible), or `end`.
+// Starts the step's porosity increment.
 template <int D>
 std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
                    const double* node_q, const double* L, const double* bulk, const double* vs,
-                   const double* vl, double* n, double* pressure_rate, double* darcy) {
+                   const double* vl, double* n, double* porosity_increment, double* pressure_rate, double* darcy) {
   for (std::size_t p = begin; p < end; ++p) {
     // div q with the nodal Darcy flux: the porosity gradient counts (erosion
     // makes porosity vary), as in the transport.
@@ -142,10 +112,12 @@ std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt
     const double n0 = n[p];
     if (n0 <= 0) {  // a dry point: no pore pressure, no porosity
       pressure_rate[p] = 0;
+      porosity_increment[p] = 0;
       continue;
     }
     pressure_rate[p] = -bulk[p] / n0 * (div_s + div_q);
     n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
+    porosity_increment[p] = n[p] - n0;  // erosion adds its share later in the step
     if (!(n[p] > 0)) return p;
     for (int i = 0; i < D; ++i) darcy[p * D + i] = n[p] * (vl[p * D + i] - vs[p * D + i]);
   }

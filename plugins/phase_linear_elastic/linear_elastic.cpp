@@ -30,33 +30,15 @@ class LinearElastic final : public suffuse::Phase {
   double density() const override { return rho_; }
   double p_wave_modulus() const override { return lambda_ + 2 * G_; }
 
-  void update_stress(suffuse::PointSet& points, suffuse::PointRange range, double dt) const override {
-    if (points.dim() == 2)
-      update<2>(points, range, dt);
-    else
-      update<3>(points, range, dt);
-  }
-
- private:
-  template <int D>
-  void update(suffuse::PointSet& points, suffuse::PointRange range, double dt) const {
-    const double* L = points.data(points.core().velocity_gradient);
-    double* stress = points.data(points.core().stress);
-    for (std::size_t p = range.begin; p < range.end; ++p) {
-      // Full 3x3 rate and spin; out-of-plane components stay zero in 2D (plane strain).
-      double l[3][3] = {};
-      for (int i = 0; i < D; ++i)
-        for (int j = 0; j < D; ++j) l[i][j] = L[p * D * D + i * D + j];
-      double d[3][3], w[3][3];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          d[i][j] = 0.5 * (l[i][j] + l[j][i]) * dt;
-          w[i][j] = 0.5 * (l[i][j] - l[j][i]) * dt;
-        }
+  void update_stress(const suffuse::StressBatch& batch) const override {
+    double* stress = batch.points.data(batch.points.core().stress);
+    for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
+      // Full 3x3 increments; out-of-plane components stay zero in 2D (plane strain).
+      const auto [d, w] = suffuse::step_increment(batch, p);
       double* s6 = stress + p * 6;
-      double s[3][3] = {{s6[0], s6[5], s6[4]}, {s6[5], s6[1], s6[3]}, {s6[4], s6[3], s6[2]}};
+      const suffuse::tensor::Matrix s = suffuse::tensor::to_matrix(s6);
       const double tr = d[0][0] + d[1][1] + d[2][2];
-      double ns[3][3];
+      suffuse::tensor::Matrix ns;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           // Jaumann: sigma += C:d + w.sigma - sigma.w
@@ -67,16 +49,12 @@ class LinearElastic final : public suffuse::Phase {
       if (tension_cutoff_ && largest_principal(ns) > 0)
         for (auto& row : ns)
           for (double& v : row) v = 0;
-      s6[0] = ns[0][0];
-      s6[1] = ns[1][1];
-      s6[2] = ns[2][2];
-      s6[3] = ns[1][2];
-      s6[4] = ns[0][2];
-      s6[5] = ns[0][1];
+      suffuse::tensor::store(ns, s6);
     }
   }
 
-  static double largest_principal(const double (&s)[3][3]) {
+ private:
+  static double largest_principal(const suffuse::tensor::Matrix& s) {
     Eigen::Matrix3d m;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) m(i, j) = s[i][j];

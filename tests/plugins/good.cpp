@@ -13,7 +13,7 @@ class ConstantDensity final : public suffuse::Phase {
   explicit ConstantDensity(const suffuse::PluginArgs& a) : rho_(a.params.number("density")) {}
   double density() const override { return rho_; }
   double p_wave_modulus() const override { return 1.0; }
-  void update_stress(suffuse::PointSet&, suffuse::PointRange, double) const override {}
+  void update_stress(const suffuse::StressBatch&) const override {}
 
  private:
   double rho_;

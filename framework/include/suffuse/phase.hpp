@@ -1,8 +1,26 @@
 #pragma once
-// A phase: the constitutive behaviour of one material (soil skeleton, pore liquid...).
+// A phase: the constitutive behaviour of one material (the soil skeleton).
+//
+// What a phase gets: the points of its material, in batches (one thread's
+// share of a material's range), with every per-point field of the run: the
+// core's (stress, velocity_gradient, ...), its own state fields (registered
+// in add_fields) and the fields other parts own, found by name in add_fields.
+// The coupling fields of a saturated, eroding run are listed below; a phase
+// that reads one declares it in its static required_fields(), and a scene
+// that does not provide it is refused at validation with the field's name.
+//
+// What a phase returns: the new stress of each point of the batch, its own
+// state, and optionally an eigenstrain increment (an inelastic strain the
+// phase imposes, e.g. the compaction of an eroding skeleton). The core
+// records the eigenstrain (field "eigenstrain") and removes it from the strain
+// increment of the step before the stress update: strain_increment() below
+// returns sym(L) dt minus the eigenstrain, so a base model wrapped by
+// another phase responds to the elastic part only.
 #include <cstddef>
+#include <span>
 
 #include "suffuse/points.hpp"
+#include "suffuse/tensor.hpp"
 
 namespace suffuse {
 
@@ -13,25 +31,88 @@ struct PointRange {
   std::size_t size() const { return end - begin; }
 };
 
+// Per-point fields other parts provide to phases, by name (scalars, [-]).
+// Saturated runs: "porosity", "porosity_increment". Runs that track fines
+// (a material erodes, a body holds fines or an inlet brings them):
+// "fines_content", "fines_content_increment", "eroded_fraction" (eroded
+// mass over initial solid mass, f_er) and "eroded_fraction_increment".
+// Increments are over the current step: deformation and erosion of this step
+// happen before the stress update.
+namespace coupling {
+inline constexpr const char* porosity = "porosity";
+inline constexpr const char* porosity_increment = "porosity_increment";
+inline constexpr const char* fines_content = "fines_content";
+inline constexpr const char* fines_content_increment = "fines_content_increment";
+inline constexpr const char* eroded_fraction = "eroded_fraction";
+inline constexpr const char* eroded_fraction_increment = "eroded_fraction_increment";
+}  // namespace coupling
+
+// One batch of a phase's points for one step.
+struct StressBatch {
+  PointSet& points;   // every field; index it with p in [range.begin, range.end)
+  PointRange range;
+  double dt;
+  // The eigenstrain increment of this step, 6 per point of the batch
+  // (point p at (p - range.begin) * 6), as the phase's eigenstrain() wrote
+  // it; empty when the phase writes none.
+  std::span<const double> eigenstrain;
+};
+
+// Strain and spin increments of point p over the step, 3x3 (zero out of
+// plane in 2D): d = sym(L) dt - eigenstrain, w = skew(L) dt, L the core's
+// "velocity_gradient". Every phase reads its strain through this, so an
+// eigenstrain is applied the same way by every model.
+struct StepIncrement {
+  tensor::Matrix strain{}, spin{};
+};
+inline StepIncrement step_increment(const StressBatch& b, std::size_t p) {
+  const int D = b.points.dim();
+  const double* L = b.points.data(b.points.core().velocity_gradient) + p * D * D;
+  StepIncrement inc;
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) {
+      inc.strain[i][j] = 0.5 * (L[i * D + j] + L[j * D + i]) * b.dt;
+      inc.spin[i][j] = 0.5 * (L[i * D + j] - L[j * D + i]) * b.dt;
+    }
+  if (!b.eigenstrain.empty()) {
+    const double* e = b.eigenstrain.data() + (p - b.range.begin) * 6;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) inc.strain[i][j] -= e[tensor::voigt_index(i, j)];
+  }
+  return inc;
+}
+
 class Phase {
  public:
   virtual ~Phase() = default;
 
-  // Mass density of the material [kg/m^3], used to give points their mass.
+  // Mass density of the material [kg/m^3], used to give points their mass
+  // (of the grains, in a saturated body).
   virtual double density() const = 0;
-  // Constrained (P-wave) modulus [Pa]; sqrt(M/rho) is the wave speed that
-  // bounds the explicit time step.
+  // Constrained (P-wave) modulus [Pa] at the initial state; sqrt(M/rho) is
+  // the wave speed that bounds the explicit time step.
   virtual double p_wave_modulus() const = 0;
 
-  // Register per-point state fields and keep their ids. Called once at set-up.
+  // Called once at set-up, after every part of the core registered its
+  // fields and before any point exists: register this phase's state fields
+  // (PointSet::add_field) and look up the fields it reads (PointSet::id).
   virtual void add_fields(PointSet& points) { (void)points; }
-  // Set the initial state of this material's points (after geometry and mass).
+  // Set the initial state of this material's points (after geometry, mass,
+  // initial stress and the saturated state).
   virtual void initialise(PointSet& points, PointRange range) const { (void)points; (void)range; }
 
-  // Advance the stress of a batch of points over dt. The core has filled the
-  // core "velocity_gradient" field (dim*dim, row-major L_ij = dv_i/dx_j).
-  // Must be safe to call concurrently on disjoint ranges.
-  virtual void update_stress(PointSet& points, PointRange range, double dt) const = 0;
+  // Optional: true if eigenstrain() writes an eigenstrain increment.
+  virtual bool writes_eigenstrain() const { return false; }
+  // Write the eigenstrain increment of this step for the batch, 6 per point
+  // (Voigt, tensor components, tension positive), before update_stress.
+  virtual void eigenstrain(const StressBatch& batch, std::span<double> increment) const {
+    (void)batch; (void)increment;
+  }
+
+  // Advance the stress (and the phase's own state) of the batch over dt.
+  // Called from several threads at once on disjoint batches: write only the
+  // batch's points, keep no mutable member state.
+  virtual void update_stress(const StressBatch& batch) const = 0;
 };
 
 }  // namespace suffuse

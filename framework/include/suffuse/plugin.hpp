@@ -7,6 +7,8 @@
 //     static suffuse::ParameterSchema schema();          // declares the parameters
 //     // optional: problems involving several parameters, reported with the scene's errors
 //     static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters&, int dim);
+//     // optional: point fields of other parts it reads (phases), checked at validation
+//     static std::vector<std::string> required_fields(const suffuse::Parameters&, int dim);
 //     explicit MyLaw(const suffuse::PluginArgs& args);   // reads them once
 //     void rate(const suffuse::ErosionBatch&) const override;
 //   };
@@ -33,17 +35,34 @@
 
 namespace suffuse {
 
-enum class PluginKind { ShapeFunction, Phase, ErosionLaw, BoundaryCondition, Writer, Liquid, PermeabilityLaw };
+// Every kind of plugin, in one list: interface class and the name used in
+// messages and docs. The enum, the names and the class-to-kind mapping below
+// are generated from it, so a new kind is one line here (and its interface
+// header above).
+#define SUFFUSE_PLUGIN_KINDS(X)                \
+  X(ShapeFunction, "shape function")          \
+  X(Phase, "phase")                           \
+  X(Liquid, "liquid")                         \
+  X(PermeabilityLaw, "permeability law")      \
+  X(ErosionLaw, "erosion law")                \
+  X(BoundaryCondition, "boundary condition")  \
+  X(Writer, "writer")
+
+#define SUFFUSE_KIND_ENUM(type, name) type,
+enum class PluginKind { SUFFUSE_PLUGIN_KINDS(SUFFUSE_KIND_ENUM) };
+#undef SUFFUSE_KIND_ENUM
+
+#define SUFFUSE_KIND_VALUE(type, name) PluginKind::type,
+inline constexpr PluginKind all_plugin_kinds[] = {SUFFUSE_PLUGIN_KINDS(SUFFUSE_KIND_VALUE)};
+#undef SUFFUSE_KIND_VALUE
+
 std::string to_string(PluginKind kind);
 
 template <class T> struct KindOf;
-template <> struct KindOf<ShapeFunction> { static constexpr PluginKind value = PluginKind::ShapeFunction; };
-template <> struct KindOf<Phase> { static constexpr PluginKind value = PluginKind::Phase; };
-template <> struct KindOf<ErosionLaw> { static constexpr PluginKind value = PluginKind::ErosionLaw; };
-template <> struct KindOf<BoundaryCondition> { static constexpr PluginKind value = PluginKind::BoundaryCondition; };
-template <> struct KindOf<Writer> { static constexpr PluginKind value = PluginKind::Writer; };
-template <> struct KindOf<Liquid> { static constexpr PluginKind value = PluginKind::Liquid; };
-template <> struct KindOf<PermeabilityLaw> { static constexpr PluginKind value = PluginKind::PermeabilityLaw; };
+#define SUFFUSE_KIND_OF(type, name) \
+  template <> struct KindOf<type> { static constexpr PluginKind value = PluginKind::type; };
+SUFFUSE_PLUGIN_KINDS(SUFFUSE_KIND_OF)
+#undef SUFFUSE_KIND_OF
 
 // A problem that involves several parameters of one node, found by a
 // plugin's optional static check(). `key` names the parameter to point at
@@ -73,6 +92,10 @@ struct PluginInfo {
   // Optional cross-parameter check, run during scene validation after the
   // schema checks passed, before anything is constructed.
   std::function<std::vector<ParameterIssue>(const Parameters&, int dim)> check;
+  // Optional: names of the per-point fields of other parts the plugin reads
+  // (e.g. "eroded_fraction"). A scene that provides none of that name is
+  // refused at validation, naming the field.
+  std::function<std::vector<std::string>(const Parameters&, int dim)> required_fields;
   std::string library;  // file the plugin was loaded from (set by the loader)
 };
 
@@ -91,6 +114,9 @@ class Registry {
     };
     // A plugin may declare `static std::vector<ParameterIssue> check(const Parameters&, int dim)`.
     if constexpr (requires(const Parameters& p) { Impl::check(p, 2); }) info.check = &Impl::check;
+    // ... and `static std::vector<std::string> required_fields(const Parameters&, int dim)`.
+    if constexpr (requires(const Parameters& p) { Impl::required_fields(p, 2); })
+      info.required_fields = &Impl::required_fields;
     add_info(std::move(info));
   }
 

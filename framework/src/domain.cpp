@@ -1,0 +1,102 @@
+#include "domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "solid_kernels.hpp"
+#include "suffuse/error.hpp"
+
+namespace suffuse::detail {
+
+Domain::Domain(const Scene& scene, const Registry& registry, int threads)
+    : grid(scene.dim, scene.grid_origin, scene.grid_cell_size, scene.grid_cells),
+      points(scene.dim),
+      exec(threads),
+      shape_function_(registry.create<ShapeFunction>(
+          scene.shape_function.type, {scene.shape_function.params, scene.dim, scene.shape_function.pointer})) {
+  shape.npp = shape_function_->nodes_per_point(scene.dim);
+  nodes.resize(grid.node_count(), scene.dim, scene.saturated());
+}
+
+const BodyPoints& Domain::create_body(const BodySpec& body, double solid_density) {
+  const int D = dim();
+  std::array<std::size_t, 3> count{1, 1, 1};
+  std::array<double, 3> spacing{1, 1, 1};
+  std::size_t total = 1;
+  for (int a = 0; a < D; ++a) {
+    const double extent = body.max[a] - body.min[a];
+    count[a] = std::max<std::size_t>(
+        1, static_cast<std::size_t>(std::llround(extent / grid.cell_size()[a] * body.points_per_cell)));
+    spacing[a] = extent / static_cast<double>(count[a]);
+    total *= count[a];
+  }
+  double volume = 1;
+  for (int a = 0; a < D; ++a) volume *= spacing[a];  // per unit thickness in 2D
+  const std::size_t first = points.append(total);
+  const auto& f = points.core();
+  double* x = points.data(f.position);
+  double* v = points.data(f.velocity);
+  double* m = points.data(f.mass);
+  double* V = points.data(f.volume);
+  double* id = points.data(f.material_id);
+  double* size = points.data(f.size);
+  double* stress = points.data(f.stress);
+  std::size_t p = first;
+  for (std::size_t k = 0; k < count[2]; ++k)
+    for (std::size_t j = 0; j < count[1]; ++j)
+      for (std::size_t i = 0; i < count[0]; ++i, ++p) {
+        const std::size_t idx[3] = {i, j, k};
+        for (int a = 0; a < D; ++a) {
+          x[p * D + a] = body.min[a] + (static_cast<double>(idx[a]) + 0.5) * spacing[a];
+          v[p * D + a] = body.velocity[a];
+          size[p * D + a] = spacing[a];
+        }
+        for (int c = 0; c < 6; ++c) stress[p * 6 + c] = body.stress[c];
+        V[p] = volume;
+        m[p] = volume * solid_density * (body.liquid ? 1 - body.porosity : 1.0);
+        id[p] = static_cast<double>(body.material);
+      }
+  bodies.push_back({body.name, body.material, {first, first + total}, body.liquid.has_value()});
+  return bodies.back();
+}
+
+void Domain::locate_points(std::size_t step, double time) {
+  const int D = dim();
+  const std::size_t n = points.size();
+  const double* x = points.data(points.core().position);
+  for (std::size_t p = 0; p < n; ++p) {
+    if (grid.contains(x + p * D)) continue;
+    std::string body;
+    for (const BodyPoints& b : bodies)
+      if (p >= b.range.begin && p < b.range.end) body = b.name;
+    std::ostringstream pos;
+    for (int a = 0; a < D; ++a) pos << (a ? ", " : "") << x[p * D + a];
+    throw Error("material point " + std::to_string(p) + " of body '" + body + "' left the grid at step " +
+                std::to_string(step) + " (t = " + std::to_string(time) + " s): position (" + pos.str() +
+                "); enlarge /grid or check the boundary conditions and the time step");
+  }
+  const int npp = shape.npp;
+  shape.ids.resize(n * npp);
+  shape.weights.resize(n * npp);
+  shape.gradients.resize(n * npp * D);
+  const auto xs = points.values(points.core().position);
+  const auto sizes = points.values(points.core().size);
+  exec.for_chunks(n, [&](int, std::size_t b, std::size_t e) {
+    shape_function_->evaluate(grid, xs.subspan(b * D, (e - b) * D), sizes.subspan(b * D, (e - b) * D),
+                              std::span(shape.ids).subspan(b * npp, (e - b) * npp),
+                              std::span(shape.weights).subspan(b * npp, (e - b) * npp),
+                              std::span(shape.gradients).subspan(b * npp * D, (e - b) * npp * D));
+  });
+}
+
+void Domain::update_kinematics(double dt) {
+  const auto& f = points.core();
+  auto kernel = dim() == 2 ? &velocity_gradient_kernel<2> : &velocity_gradient_kernel<3>;
+  exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
+    kernel(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(),
+           points.data(f.velocity_gradient), points.data(f.strain), points.data(f.volume));
+  });
+}
+
+}  // namespace suffuse::detail

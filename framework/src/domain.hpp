@@ -1,0 +1,65 @@
+#pragma once
+// The grid and the material points of a run, and the interpolation between
+// them (shape functions at the points' positions). This is what a later MPI
+// partition splits: each process a box of cells with its halo, and the points
+// inside it; the stages of the other parts reach grid and points only through
+// a Domain.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "executor.hpp"
+#include "suffuse/grid.hpp"
+#include "suffuse/phase.hpp"
+#include "suffuse/plugin.hpp"
+#include "suffuse/points.hpp"
+#include "suffuse/scene.hpp"
+
+namespace suffuse::detail {
+
+// The points of one body of the scene.
+struct BodyPoints {
+  std::string name;
+  std::size_t material;
+  PointRange range;
+  bool saturated;
+};
+
+// Node connectivity of every point for the current step: point p reaches
+// nodes ids[p*npp + a] with weights[p*npp + a] and gradients[(p*npp + a)*dim + i].
+struct Interpolation {
+  int npp = 0;  // nodes per point
+  std::vector<std::int64_t> ids;
+  std::vector<double> weights, gradients;
+};
+
+class Domain {
+ public:
+  Domain(const Scene& scene, const Registry& registry, int threads);
+
+  int dim() const { return grid.dim(); }
+
+  // Fills a body's box with points (position, size, velocity, volume, solid
+  // mass, initial stress, material id); returns their range.
+  const BodyPoints& create_body(const BodySpec& body, double solid_density);
+
+  // Stage "shape": shape functions at the points' positions. Throws, naming
+  // the point and its body, if a point left the grid.
+  void locate_points(std::size_t step, double time);
+  // Stage "strain": velocity gradient L from the remapped nodal velocities,
+  // strain += sym(L) dt, volume *= det(I + L dt).
+  void update_kinematics(double dt);
+
+  GridGeometry grid;
+  NodeState nodes;
+  PointSet points;
+  Executor exec;
+  Interpolation shape;
+  std::vector<BodyPoints> bodies;
+
+ private:
+  std::unique_ptr<ShapeFunction> shape_function_;
+};
+
+}  // namespace suffuse::detail

@@ -1,0 +1,68 @@
+#include "dry_momentum.hpp"
+
+#include "solid_kernels.hpp"
+
+namespace suffuse::detail {
+
+void DryMomentum::points_to_grid() {
+  NodeState& n = d_.nodes;
+  for (auto* v : {&n.mass, &n.momentum, &n.force}) std::fill(v->begin(), v->end(), 0.0);
+  const auto& f = d_.points.core();
+  auto kernel = d_.dim() == 2 ? &p2g_kernel<2> : &p2g_kernel<3>;
+  ScatterTargets targets;
+  targets.add(n.mass);
+  targets.add(n.momentum);
+  targets.add(n.force);
+  const Interpolation& s = d_.shape;
+  d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
+    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), d_.points.data(f.mass),
+           d_.points.data(f.volume), d_.points.data(f.velocity), d_.points.data(f.stress), gravity_.data(),
+           mass_scaling_, out[0], out[1], out[2]);
+  });
+}
+
+void DryMomentum::integrate_grid(double dt) {
+  NodeState& n = d_.nodes;
+  auto update = d_.dim() == 2 ? &grid_update_kernel<2> : &grid_update_kernel<3>;
+  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+    update(b, e, dt, damping_, n.mass.data(), n.momentum.data(), n.force.data(), n.velocity.data());
+  });
+}
+
+void DryMomentum::accelerations(double dt) {
+  NodeState& n = d_.nodes;
+  auto acc = d_.dim() == 2 ? &acceleration_kernel<2> : &acceleration_kernel<3>;
+  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+    acc(b, e, dt, n.mass.data(), n.momentum.data(), n.velocity.data(), n.acceleration.data());
+  });
+}
+
+void DryMomentum::grid_to_points(double dt) {
+  const auto& f = d_.points.core();
+  const Interpolation& s = d_.shape;
+  auto kernel = d_.dim() == 2 ? &g2p_kernel<2> : &g2p_kernel<3>;
+  d_.exec.for_chunks(d_.points.size(), [&](int, std::size_t b, std::size_t e) {
+    kernel(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(), d_.nodes.acceleration.data(),
+           d_.points.data(f.position), d_.points.data(f.displacement), d_.points.data(f.velocity));
+  });
+}
+
+void DryMomentum::remap() {
+  NodeState& n = d_.nodes;
+  std::fill(n.momentum.begin(), n.momentum.end(), 0.0);
+  const auto& f = d_.points.core();
+  const Interpolation& s = d_.shape;
+  auto kernel = d_.dim() == 2 ? &remap_kernel<2> : &remap_kernel<3>;
+  ScatterTargets targets;
+  targets.add(n.momentum);
+  d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
+    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), d_.points.data(f.mass), mass_scaling_,
+           d_.points.data(f.velocity), out[0]);
+  });
+  auto velocity = d_.dim() == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;
+  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+    velocity(b, e, n.mass.data(), n.momentum.data(), n.velocity.data());
+  });
+}
+
+}  // namespace suffuse::detail

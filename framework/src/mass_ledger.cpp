@@ -1,0 +1,80 @@
+// The mass ledger of a saturated run: the totals of every species, from the
+// points and the booked boundary discharges.
+#include <cmath>
+#include <ostream>
+
+#include "species_transport.hpp"
+
+namespace suffuse {
+
+namespace {
+double relative(double in, double residual) { return in > 0 ? std::abs(residual) / in : std::abs(residual); }
+}  // namespace
+
+double MassLedger::fines_discharged() const {
+  double out = 0;
+  for (const auto& b : boundaries) out += b.fines_out;
+  return out;
+}
+
+double MassLedger::solid_imbalance() const { return relative(initial_solid, initial_solid - solid - eroded); }
+
+double MassLedger::liquid_imbalance() const {
+  double in = initial_liquid + eroded, out = 0;
+  for (const auto& b : boundaries) in += b.liquid_in, out += b.liquid_out;
+  return relative(in, in - liquid - out);
+}
+
+double MassLedger::fines_imbalance() const {
+  double in = initial_fines, out = 0;
+  for (const auto& b : boundaries) in += b.fines_in, out += b.fines_out;
+  return relative(in, in - skeleton_fines - suspended_fines - out);
+}
+
+namespace detail {
+
+MassLedger SpeciesTransport::mass_ledger(double time) const {
+  MassLedger l;
+  l.time = time;
+  l.initial_solid = initial_solid_;
+  l.initial_liquid = initial_liquid_;
+  l.initial_fines = initial_fines_;
+  const PointSet& pts = d_.points;
+  const double* ms = pts.data(pts.core().mass);
+  const double* ml = pts.data(m_.liquid_mass);
+  const double* n = pts.data(m_.porosity);
+  const double* skeleton = fines_ ? pts.data(fines_->skeleton_fines) : nullptr;
+  const double* suspended = fines_ ? pts.data(fines_->suspended_fines) : nullptr;
+  const double* eroded = fines_ ? pts.data(fines_->eroded_mass) : nullptr;
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    if (n[p] <= 0) continue;  // the ledger covers the saturated bodies
+    l.solid += ms[p];
+    l.liquid += ml[p];
+    if (!fines_) continue;
+    l.skeleton_fines += skeleton[p];
+    l.suspended_fines += suspended[p];
+    l.eroded += eroded[p];
+  }
+  for (double* total : {&l.solid, &l.liquid, &l.skeleton_fines, &l.suspended_fines, &l.eroded})
+    *total = global_sum(*total);
+  l.boundaries = discharge_;
+  return l;
+}
+
+void SpeciesTransport::write_ledger_row(std::ostream& out, double time, bool header) const {
+  if (header) {
+    out << "time,solid,skeleton_fines,suspended_fines,liquid,eroded";
+    for (const auto& d : discharge_)
+      out << ",fines_out_" << d.face << ",fines_in_" << d.face << ",liquid_out_" << d.face << ",liquid_in_" << d.face;
+    out << ",fines_imbalance,liquid_imbalance,solid_imbalance\n";
+  }
+  const MassLedger l = mass_ledger(time);
+  out.precision(17);
+  out << l.time << ',' << l.solid << ',' << l.skeleton_fines << ',' << l.suspended_fines << ',' << l.liquid << ','
+      << l.eroded;
+  for (const auto& d : l.boundaries) out << ',' << d.fines_out << ',' << d.fines_in << ',' << d.liquid_out << ',' << d.liquid_in;
+  out << ',' << l.fines_imbalance() << ',' << l.liquid_imbalance() << ',' << l.solid_imbalance() << '\n';
+}
+
+}  // namespace detail
+}  // namespace suffuse

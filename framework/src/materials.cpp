@@ -1,0 +1,47 @@
+#include "materials.hpp"
+
+namespace suffuse::detail {
+
+Materials::Materials(const Scene& scene, const Registry& registry) {
+  for (const MaterialSpec& m : scene.materials)
+    phases_.push_back(registry.create<Phase>(m.phase.type, {m.phase.params, scene.dim, m.phase.pointer}));
+}
+
+std::vector<const Phase*> Materials::phases() const {
+  std::vector<const Phase*> all;
+  for (const auto& p : phases_) all.push_back(p.get());
+  return all;
+}
+
+void Materials::add_fields(PointSet& points) {
+  for (const auto& phase : phases_) {
+    if (!phase->writes_eigenstrain() || eigenstrain_) continue;
+    using K = FieldKind;
+    eigenstrain_ = points.add_field(
+        {"eigenstrain", K::SymmetricTensor, "-", "inelastic strain imposed by the phase, accumulated", true});
+    eigenstrain_increment_ = points.add_field(
+        {"eigenstrain_increment", K::SymmetricTensor, "-", "the eigenstrain of the last step", false});
+  }
+  for (const auto& phase : phases_) phase->add_fields(points);
+}
+
+void Materials::update_stress(Domain& d, double dt) const {
+  PointSet& points = d.points;
+  for (const BodyPoints& body : d.bodies) {
+    const Phase& phase = *phases_[body.material];
+    d.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {
+      const PointRange range{body.range.begin + b, body.range.begin + e};
+      std::span<const double> eigenstrain;
+      if (phase.writes_eigenstrain()) {
+        const std::span<double> increment(points.data(*eigenstrain_increment_) + range.begin * 6, range.size() * 6);
+        phase.eigenstrain(StressBatch{points, range, dt, {}}, increment);
+        double* total = points.data(*eigenstrain_) + range.begin * 6;
+        for (std::size_t k = 0; k < increment.size(); ++k) total[k] += increment[k];
+        eigenstrain = increment;
+      }
+      phase.update_stress(StressBatch{points, range, dt, eigenstrain});
+    });
+  }
+}
+
+}  // namespace suffuse::detail

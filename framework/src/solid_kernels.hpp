@@ -1,0 +1,165 @@
+#pragma once
+// Kernels of the single-phase (dry) MUSL step, one loop each, specialised by
+// dimension: points to grid, grid update, grid to points, MUSL remap, and
+// the velocity gradient.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "suffuse/tensor.hpp"
+
+namespace suffuse::detail {
+
+using tensor::voigt_index;  // xx yy zz yz xz xy
+
+// det(I + L dt) for a row-major D x D velocity gradient L: the volume ratio of a step.
+template <int D>
+double step_jacobian(const double* l, double dt) {
+  if constexpr (D == 2) {
+    return (1 + l[0] * dt) * (1 + l[3] * dt) - l[1] * l[2] * dt * dt;
+  } else {
+    const double a = 1 + l[0] * dt, b = l[1] * dt, c = l[2] * dt, d = l[3] * dt, e = 1 + l[4] * dt;
+    const double f = l[5] * dt, g = l[6] * dt, h = l[7] * dt, i = 1 + l[8] * dt;
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+  }
+}
+
+// Local non-viscous damping (Cundall): a force opposing the motion,
+// proportional to the unbalanced force.
+inline double damped(double force, double velocity, double damping) {
+  if (damping > 0 && velocity != 0) force -= damping * std::abs(force) * (velocity > 0 ? 1.0 : -1.0);
+  return force;
+}
+
+template <int D>
+void p2g_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w, const double* dw,
+                const double* mass, const double* volume, const double* vel, const double* stress,
+                const double* g, double scale, double* node_mass, double* node_mom, double* node_force) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const double m = mass[p], V = volume[p], inertia = scale * m;
+    const double* v = vel + p * D;
+    const double* s = stress + p * 6;
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      const double wm = w[k] * m, wi = w[k] * inertia;
+      const double* grad = dw + k * D;
+      node_mass[I] += wi;
+      for (int i = 0; i < D; ++i) {
+        node_mom[I * D + i] += wi * v[i];
+        double f = wm * g[i];
+        for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
+        node_force[I * D + i] += f;
+      }
+    }
+  }
+}
+
+template <int D>
+void grid_update_kernel(std::size_t begin, std::size_t end, double dt, double damping, const double* mass,
+                        const double* mom, double* force, double* vel) {
+  for (std::size_t I = begin; I < end; ++I) {
+    const double m = mass[I];
+    if (m <= 0) {
+      for (int i = 0; i < D; ++i) vel[I * D + i] = 0;
+      continue;
+    }
+    for (int i = 0; i < D; ++i) {
+      const double v_old = mom[I * D + i] / m;
+      const double f = damped(force[I * D + i], v_old, damping);
+      force[I * D + i] = f;
+      vel[I * D + i] = v_old + f / m * dt;
+    }
+  }
+}
+
+// Nodal acceleration of the step after the constraints: (v - p/m) / dt.
+template <int D>
+void acceleration_kernel(std::size_t begin, std::size_t end, double dt, const double* mass, const double* mom,
+                         const double* vel, double* acc) {
+  for (std::size_t I = begin; I < end; ++I) {
+    const double m = mass[I];
+    for (int i = 0; i < D; ++i) acc[I * D + i] = m > 0 ? (vel[I * D + i] - mom[I * D + i] / m) / dt : 0.0;
+  }
+}
+
+template <int D>
+void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* w,
+                const double* node_vel, const double* node_acc, double* x, double* u, double* vel) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double dv[D] = {}, vg[D] = {};
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      for (int i = 0; i < D; ++i) {
+        dv[i] += w[k] * node_acc[I * D + i];
+        vg[i] += w[k] * node_vel[I * D + i];
+      }
+    }
+    for (int i = 0; i < D; ++i) {
+      vel[p * D + i] += dt * dv[i];  // FLIP: velocity from the nodal acceleration
+      x[p * D + i] += dt * vg[i];
+      u[p * D + i] += dt * vg[i];
+    }
+  }
+}
+
+// Velocity of one phase from the nodal acceleration (FLIP), positions untouched.
+template <int D>
+void g2p_velocity(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* w,
+                  const double* node_acc, double* vel) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double dv[D] = {};
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      for (int i = 0; i < D; ++i) dv[i] += w[k] * node_acc[ids[k] * D + i];
+    }
+    for (int i = 0; i < D; ++i) vel[p * D + i] += dt * dv[i];
+  }
+}
+
+template <int D>
+void remap_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+                  const double* mass, double scale, const double* vel, double* node_mom) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const double m = scale * mass[p];
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      for (int i = 0; i < D; ++i) node_mom[I * D + i] += w[k] * m * vel[p * D + i];
+    }
+  }
+}
+
+// Nodal velocities from momenta: p / m, zero at nodes without mass.
+template <int D>
+void velocity_from_momentum(std::size_t begin, std::size_t end, const double* mass, const double* mom, double* vel) {
+  for (std::size_t I = begin; I < end; ++I) {
+    const double m = mass[I];
+    for (int i = 0; i < D; ++i) vel[I * D + i] = m > 0 ? mom[I * D + i] / m : 0.0;
+  }
+}
+
+template <int D>
+void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
+                              const double* dw, const double* node_vel, double* L, double* strain, double* volume) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double l[D][D] = {};
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      for (int i = 0; i < D; ++i)
+        for (int j = 0; j < D; ++j) l[i][j] += node_vel[I * D + i] * dw[k * D + j];
+    }
+    double* Lp = L + p * D * D;
+    double* e = strain + p * 6;
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) Lp[i * D + j] = l[i][j];
+    for (int i = 0; i < D; ++i)
+      for (int j = i; j < D; ++j) e[voigt_index(i, j)] += 0.5 * (l[i][j] + l[j][i]) * dt;
+    // Volume follows det(I + L dt) of the step.
+    volume[p] *= step_jacobian<D>(Lp, dt);
+  }
+}
+
+}  // namespace suffuse::detail

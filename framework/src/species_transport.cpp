@@ -1,0 +1,307 @@
+#include "species_transport.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <ostream>
+
+#include "species_kernels.hpp"
+#include "suffuse/error.hpp"
+#include "suffuse/grid_face.hpp"
+
+namespace suffuse::detail {
+
+bool SpeciesTransport::tracks_fines(const Scene& scene, const std::vector<LiquidOpening>& openings) {
+  bool fines = scene.erodible();
+  for (const BodySpec& b : scene.bodies) fines = fines || b.fines_content > 0 || b.concentration > 0;
+  for (const LiquidOpening& o : openings) fines = fines || o.concentration > 0;
+  return fines;
+}
+
+std::vector<FieldInfo> SpeciesTransport::fines_field_infos() {
+  using K = FieldKind;
+  return {
+      {"skeleton_fines", K::Scalar, "kg", "erodible fines in the skeleton", false},
+      {"suspended_fines", K::Scalar, "kg", "fines carried by the pore liquid", false},
+      {"eroded_mass", K::Scalar, "kg", "solid lost to the liquid, net", false},
+      {coupling::fines_content, K::Scalar, "-", "f_c, erodible fines / solid volume", true},
+      {coupling::fines_content_increment, K::Scalar, "-", "change of f_c over the step", false},
+      {"ultimate_fines_content", K::Scalar, "-", "f_c_inf, fines no law can erode", false},
+      {"concentration", K::Scalar, "-", "c, suspended fines / pore liquid volume", true},
+      {coupling::eroded_fraction, K::Scalar, "-", "f_er, eroded solid / initial solid mass", true},
+      {coupling::eroded_fraction_increment, K::Scalar, "-", "change of f_er over the step", false},
+      {"erosion_rate", K::Scalar, "1/s", "n_e, eroded solid volume / volume / time", true},
+      {"hydraulic_gradient", K::Scalar, "-", "|i| = |q| / K", true},
+  };
+}
+
+namespace {
+std::vector<LiquidOpening> openings_of(const std::vector<std::unique_ptr<BoundaryCondition>>& bcs) {
+  std::vector<LiquidOpening> all;
+  for (const auto& bc : bcs)
+    for (const LiquidOpening& o : bc->liquid_openings()) all.push_back(o);
+  return all;
+}
+}  // namespace
+
+SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry, Domain& domain,
+                                   const SaturatedMixture& mixture,
+                                   const std::vector<std::unique_ptr<BoundaryCondition>>& bcs)
+    : d_(domain), m_(mixture.fields()), node_darcy_(mixture.nodal_darcy_flux()) {
+  for (const MaterialSpec& m : scene.materials) {
+    material_names_.push_back(m.name);
+    erosion_.push_back(m.erosion ? registry.create<ErosionLaw>(m.erosion->type,
+                                                              {m.erosion->params, scene.dim, m.erosion->pointer})
+                                 : nullptr);
+  }
+  if (tracks_fines(scene, openings_of(bcs))) {
+    std::vector<FieldId> ids;
+    for (const FieldInfo& info : fines_field_infos()) ids.push_back(d_.points.add_field(info));
+    fines_ = FinesFields{ids[0], ids[1], ids[2], ids[3], ids[4], ids[5], ids[6], ids[7], ids[8], ids[9], ids[10]};
+  }
+  const std::size_t nn = d_.grid.node_count();
+  node_face_.assign(nn * scene.dim, 0.0);
+  for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_out_, &node_dliquid_, &node_dfines_,
+                  &node_free_liquid_, &node_free_fines_})
+    v->assign(nn, 0.0);
+  setup_openings(scene, mixture, bcs);
+}
+
+void SpeciesTransport::initialise(const BodySpec& body, const BodyPoints& b) {
+  if (!body.liquid || !fines_) return;
+  PointSet& pts = d_.points;
+  const FinesFields& f = *fines_;
+  const double* V = pts.data(pts.core().volume);
+  const double* ms = pts.data(pts.core().mass);
+  const double* n = pts.data(m_.porosity);
+  const double* rho_s = pts.data(m_.grain_density);
+  for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
+    pts.data(f.skeleton_fines)[p] = body.fines_content * ms[p];
+    pts.data(f.suspended_fines)[p] = body.concentration * rho_s[p] * n[p] * V[p];
+    pts.data(f.fines_content)[p] = body.fines_content;
+    pts.data(f.ultimate_fines_content)[p] = body.ultimate_fines_content;
+    pts.data(f.concentration)[p] = body.concentration;
+  }
+}
+
+void SpeciesTransport::start_ledger() {
+  const MassLedger start = mass_ledger(0);
+  initial_solid_ = start.solid;
+  initial_liquid_ = start.liquid;
+  initial_fines_ = start.skeleton_fines + start.suspended_fines;
+  flux_magnitude_.assign(d_.points.size(), 0.0);
+}
+
+void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture& mixture,
+                                      const std::vector<std::unique_ptr<BoundaryCondition>>& bcs) {
+  // Densities of the liquid entering: the first saturated body's.
+  double rho_s = 0, rho_w = 0;
+  for (const BodySpec& b : scene.bodies)
+    if (b.liquid && rho_w == 0) rho_s = mixture.grain_density(b.material), rho_w = mixture.liquid(*b.liquid).density();
+  const int dim = d_.dim();
+  inflow_liquid_.assign(d_.grid.node_count() * dim, std::numeric_limits<double>::quiet_NaN());
+  inflow_fines_ = inflow_liquid_;
+  for (const LiquidOpening& o : openings_of(bcs)) {
+    for (const Opening& other : openings_)
+      if (other.face.axis == o.face.axis && other.face.upper == o.face.upper)
+        throw Error("two boundary conditions open the same grid face to the liquid; its outflow would be counted "
+                    "twice: keep one bc/pore_pressure or bc/inflow_flux per face");
+    Opening opening{o.face, {}};
+    for (std::int64_t I : face_nodes(d_.grid, o.face)) {
+      const auto ijk = d_.grid.node_ijk(I);
+      double area = 1;
+      for (int a = 0; a < dim; ++a) {
+        if (a == o.face.axis) continue;
+        const bool edge = ijk[a] == 0 || ijk[a] == d_.grid.nodes_per_axis()[a] - 1;
+        area *= d_.grid.cell_size()[a] * (edge ? 0.5 : 1.0);
+      }
+      opening.nodes.push_back({I, area});
+      const std::size_t k = static_cast<std::size_t>(I) * dim + o.face.axis;
+      inflow_liquid_[k] = o.concentration * rho_s + (1 - o.concentration) * rho_w;
+      inflow_fines_[k] = o.concentration * rho_s;
+    }
+    discharge_.push_back({grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)], 0, 0, 0, 0});
+    openings_.push_back(std::move(opening));
+  }
+  // Liquid leaving the body through a free surface inside the grid.
+  discharge_.push_back({"free_surface", 0, 0, 0, 0});
+  discharge_step_.assign(discharge_.size(), {0, 0, 0, 0});
+  discharge_carry_.assign(discharge_.size(), {0, 0, 0, 0});
+}
+
+void SpeciesTransport::erode(double dt) {
+  if (!fines_) return;
+  const FinesFields& f = *fines_;
+  PointSet& pts = d_.points;
+  const int dim = d_.dim();
+  const SpeciesPoints pt{pts.data(pts.core().mass),     pts.data(f.skeleton_fines), pts.data(f.suspended_fines),
+                         pts.data(m_.liquid_mass),      pts.data(f.eroded_mass),    pts.data(pts.core().volume),
+                         pts.data(m_.porosity),         pts.data(m_.grain_density)};
+  for (const BodyPoints& body : d_.bodies) {
+    const ErosionLaw* law = erosion_[body.material].get();
+    if (!body.saturated || !law) continue;
+    d_.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {
+      const std::size_t begin = body.range.begin + b, end = body.range.begin + e, count = e - b;
+      const double* q = pts.data(m_.darcy_flux);
+      const double* K = pts.data(m_.conductivity);
+      const double* rho_w = pts.data(m_.water_density);
+      double* fc = pts.data(f.fines_content);
+      double* c = pts.data(f.concentration);
+      double* grad = pts.data(f.hydraulic_gradient);
+      for (std::size_t p = begin; p < end; ++p) {
+        double q2 = 0;
+        for (int i = 0; i < dim; ++i) q2 += q[p * dim + i] * q[p * dim + i];
+        flux_magnitude_[p] = std::sqrt(q2);
+        grad[p] = flux_magnitude_[p] / K[p];  // Darcy: q = K i
+        fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
+        c[p] = suspended_concentration(pt.suspended_fines[p], pt.liquid_mass[p], pt.grain_density[p], rho_w[p]);
+      }
+      auto span = [&](FieldId id) { return std::span<const double>(pts.data(id) + begin, count); };
+      double* rate = pts.data(f.erosion_rate);
+      law->rate(ErosionBatch{span(m_.porosity), span(f.fines_content), span(f.ultimate_fines_content),
+                             span(f.concentration), std::span<const double>(flux_magnitude_.data() + begin, count),
+                             span(f.hydraulic_gradient), std::span<double>(rate + begin, count)});
+      for (std::size_t p = begin; p < end; ++p)
+        if (!std::isfinite(rate[p]))
+          throw Error("erosion law of material '" + material_names_[body.material] + "' returned rate " +
+                      std::to_string(rate[p]) + " at material point " + std::to_string(p) + " (n = " +
+                      std::to_string(pt.porosity[p]) + ", f_c = " + std::to_string(fc[p]) + ", c = " +
+                      std::to_string(c[p]) + ", |q| = " + std::to_string(flux_magnitude_[p]) + ")");
+      double* dn = pts.data(m_.porosity_increment);
+      double* dfc = pts.data(f.fines_content_increment);
+      double* fer = pts.data(f.eroded_fraction);
+      double* dfer = pts.data(f.eroded_fraction_increment);
+      for (std::size_t p = begin; p < end; ++p) dn[p] -= pt.porosity[p], dfc[p] = fc[p], dfer[p] = fer[p];
+      apply_erosion(begin, end, dt, pt, pts.data(f.ultimate_fines_content), rate);
+      for (std::size_t p = begin; p < end; ++p) {
+        fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
+        fer[p] = pt.eroded_mass[p] / (pt.solid_mass[p] + pt.eroded_mass[p]);
+        // The step's increments: the deformation's share of dn is there already.
+        dn[p] += pt.porosity[p];
+        dfc[p] = fc[p] - dfc[p];
+        dfer[p] = fer[p] - dfer[p];
+      }
+    });
+  }
+}
+
+void SpeciesTransport::transport(double dt) {
+  PointSet& pts = d_.points;
+  const double* V = pts.data(pts.core().volume);
+  const double* n = pts.data(m_.porosity);
+  const Interpolation& s = d_.shape;
+  const int dim = d_.dim();
+  for (auto* v : {&node_pore_, &node_liquid_, &node_fines_}) std::fill(v->begin(), v->end(), 0.0);
+  ScatterTargets targets;
+  targets.add(node_pore_);
+  targets.add(node_liquid_);
+  if (fines_) targets.add(node_fines_);
+  const double* fines = fines_ ? pts.data(fines_->suspended_fines) : nullptr;
+  d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
+    p2g_species(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, pts.data(m_.liquid_mass), fines, out[0], out[1],
+                fines ? out[2] : nullptr);
+  });
+
+  const TransportGrid g{d_.grid.nodes_per_axis(),
+                        d_.grid.cell_size(),
+                        dt,
+                        node_pore_.data(),
+                        node_liquid_.data(),
+                        fines ? node_fines_.data() : nullptr,
+                        node_darcy_.data(),
+                        node_face_.data(),
+                        inflow_liquid_.data(),
+                        inflow_fines_.data()};
+  const std::size_t nn = d_.grid.node_count();
+  auto run = [&](auto transport) {
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
+    // Open faces: liquid leaving also counts against a node's content.
+    for (const Opening& o : openings_)
+      for (const OpeningNode& on : o.nodes)
+        node_out_[on.node] += std::max(0.0, dt * on.area * o.face.outward() * transport.darcy(on.node, o.face.axis));
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+      transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_free_liquid_.data(),
+                         node_free_fines_.data());
+    });
+    // What crossed each account this step, summed in node order (independent
+    // of the chunking): out, in of liquid; out, in of fines.
+    std::vector<std::array<double, 4>>& step = discharge_step_;
+    for (auto& a : step) a = {0, 0, 0, 0};
+    for (std::size_t I = 0; I < nn; ++I) {
+      step.back()[0] += node_free_liquid_[I];
+      step.back()[2] += node_free_fines_[I];
+    }
+    for (std::size_t k = 0; k < openings_.size(); ++k) {
+      const Opening& o = openings_[k];  // the free surfaces' account is the last
+      for (const OpeningNode& on : o.nodes) {
+        const std::int64_t I = on.node;
+        if (node_pore_[I] <= 0) continue;
+        const double vol = dt * on.area * o.face.outward() * transport.darcy(I, o.face.axis);
+        if (vol > 0) {
+          const double share = transport.scale(I, node_out_.data()) * vol / node_pore_[I];
+          const double liquid = share * node_liquid_[I], fines_out = fines ? share * node_fines_[I] : 0.0;
+          node_dliquid_[I] -= liquid;
+          node_dfines_[I] -= fines_out;
+          step[k][0] += liquid;
+          step[k][2] += fines_out;
+        } else if (vol < 0) {
+          // What enters per volume, set once per face node in setup_openings.
+          const std::size_t at = static_cast<std::size_t>(I) * dim + o.face.axis;
+          const double liquid = -vol * inflow_liquid_[at], fines_in = -vol * inflow_fines_[at];
+          node_dliquid_[I] += liquid;
+          node_dfines_[I] += fines_in;
+          step[k][1] += liquid;
+          step[k][3] += fines_in;
+        }
+      }
+    }
+    add_to_totals(step);
+  };
+  if (dim == 2)
+    run(Transport<2>{g});
+  else
+    run(Transport<3>{g});
+
+  const double* rho_w = pts.data(m_.water_density);
+  const double* rho_s = pts.data(m_.grain_density);
+  const double* ml = pts.data(m_.liquid_mass);
+  double* rho = pts.data(m_.liquid_density);
+  double* moving = pts.data(m_.moving_liquid_mass);
+  double* c = fines_ ? pts.data(fines_->concentration) : nullptr;
+  d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
+    g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, node_pore_.data(), node_liquid_.data(),
+              node_dliquid_.data(), pts.data(m_.liquid_mass));
+    if (fines)
+      g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, node_pore_.data(), node_fines_.data(),
+                node_dfines_.data(), pts.data(fines_->suspended_fines));
+    // The momentum balance sees the pores full of the liquid the point
+    // carries: n V rho_L, rho_L = c rho_s + (1 - c) rho_w. Not the carried
+    // mass itself, which near a free surface inside the grid can pile up
+    // (docs/two-phase.md, known defects).
+    for (std::size_t p = b; p < e; ++p) {
+      if (n[p] <= 0) continue;
+      const double conc = fines ? suspended_concentration(fines[p], ml[p], rho_s[p], rho_w[p]) : 0.0;
+      if (c) c[p] = conc;
+      rho[p] = conc * rho_s[p] + (1 - conc) * rho_w[p];
+      moving[p] = n[p] * V[p] * rho[p];
+    }
+  });
+}
+
+void SpeciesTransport::add_to_totals(const std::vector<std::array<double, 4>>& step) {
+  // The totals grow large and a step's share stays small: Kahan summation
+  // carries the low-order bits a plain addition drops.
+  for (std::size_t k = 0; k < discharge_.size(); ++k) {
+    BoundaryDischarge& d = discharge_[k];
+    double* totals[4] = {&d.liquid_out, &d.liquid_in, &d.fines_out, &d.fines_in};
+    for (int i = 0; i < 4; ++i) {
+      double& carry = discharge_carry_[k][i];
+      const double y = step[k][i] - carry, t = *totals[i] + y;
+      carry = (t - *totals[i]) - y;
+      *totals[i] = t;
+    }
+  }
+}
+
+}  // namespace suffuse::detail

@@ -1,0 +1,82 @@
+#pragma once
+// The species of a saturated run (docs/erosion.md): erosion moves fines from
+// the skeleton to the pore liquid at the points; the liquid and its suspended
+// fines then cross the grid with the Darcy flux, by a conservative finite-
+// volume scheme on the dual cells; what crosses the open faces of the grid is
+// booked per face, so the mass ledger closes to round-off.
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "domain.hpp"
+#include "saturated_mixture.hpp"
+#include "suffuse/boundary_condition.hpp"
+#include "suffuse/erosion_law.hpp"
+#include "suffuse/mass_ledger.hpp"
+
+namespace suffuse::detail {
+
+// Ids of the fines' point fields (runs that track fines).
+struct FinesFields {
+  FieldId skeleton_fines, suspended_fines, eroded_mass, fines_content, fines_content_increment, ultimate_fines_content,
+      concentration, eroded_fraction, eroded_fraction_increment, erosion_rate, hydraulic_gradient;
+};
+
+class SpeciesTransport {
+ public:
+  // Fines are tracked when a body holds some, a material erodes, or an inlet brings them.
+  static bool tracks_fines(const Scene& scene, const std::vector<LiquidOpening>& openings);
+  // The point fields it registers when it tracks fines.
+  static std::vector<FieldInfo> fines_field_infos();
+
+  SpeciesTransport(const Scene& scene, const Registry& registry, Domain& domain, const SaturatedMixture& mixture,
+                   const std::vector<std::unique_ptr<BoundaryCondition>>& bcs);
+
+  // Fines of a body's points (after the mixture's initialise).
+  void initialise(const BodySpec& body, const BodyPoints& points);
+  // The initial totals of the ledger, once every body is initialised.
+  void start_ledger();
+
+  // Stage "erosion": each material's erosion law, applied at the points.
+  void erode(double dt);
+  // Stage "transport": liquid and suspended fines across the grid.
+  void transport(double dt);
+
+  MassLedger mass_ledger(double time) const;
+  // One CSV row of the ledger (with the header first if asked).
+  void write_ledger_row(std::ostream& out, double time, bool header) const;
+
+ private:
+  struct OpeningNode {
+    std::int64_t node;
+    double area;
+  };
+  struct Opening {  // what enters per volume is in inflow_liquid_ / inflow_fines_
+    GridFace face;
+    std::vector<OpeningNode> nodes;
+  };
+  void setup_openings(const Scene& scene, const SaturatedMixture& mixture,
+                      const std::vector<std::unique_ptr<BoundaryCondition>>& bcs);
+  void add_to_totals(const std::vector<std::array<double, 4>>& step);
+
+  Domain& d_;
+  const MixtureFields& m_;
+  const std::vector<double>& node_darcy_;
+  std::vector<std::string> material_names_;
+  std::vector<std::unique_ptr<ErosionLaw>> erosion_;  // per material, may be null
+  std::optional<FinesFields> fines_;                  // runs that track fines
+  std::vector<double> flux_magnitude_;                // per point, scratch of the erosion stage
+
+  std::vector<Opening> openings_;
+  std::vector<double> inflow_liquid_, inflow_fines_;  // per node and axis: what enters per volume, NaN: no inlet
+  std::vector<BoundaryDischarge> discharge_;          // per opening, then the free surfaces; cumulative
+  std::vector<std::array<double, 4>> discharge_step_, discharge_carry_;  // this step's share; summation carry
+  double initial_solid_ = 0, initial_liquid_ = 0, initial_fines_ = 0;
+  std::vector<double> node_face_;  // dim per node: face volumes of the transport
+  std::vector<double> node_pore_, node_liquid_, node_fines_, node_out_, node_dliquid_, node_dfines_,
+      node_free_liquid_, node_free_fines_;
+};
+
+}  // namespace suffuse::detail
