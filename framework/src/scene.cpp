@@ -1,10 +1,12 @@
 #include "suffuse/scene.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <iomanip>
 #include <sstream>
 
+#include "point_fields.hpp"
 #include "validation.hpp"
 
 namespace suffuse {
@@ -167,6 +169,7 @@ class SceneReader {
       }
     }
     read_outputs(scene);
+    if (diags_.empty()) check_required_fields(scene);
     if (!diags_.empty()) throw SceneError(name, diags_);
     return scene;
   }
@@ -447,6 +450,34 @@ class SceneReader {
         out.interval = o.maybe_number("interval");
       }
       scene.outputs.push_back(std::move(out));
+    }
+  }
+
+  // Plugins that read point fields of other parts (a phase coupled to the
+  // erosion): each field must be one this scene's run provides.
+  void check_required_fields(const Scene& scene) {
+    const std::vector<detail::ProvidedField> fields = detail::point_fields_of(scene, registry_);
+    std::vector<const PluginNode*> nodes = {&scene.shape_function};
+    for (const MaterialSpec& m : scene.materials) {
+      nodes.push_back(&m.phase);
+      if (m.permeability) nodes.push_back(&*m.permeability);
+      if (m.erosion) nodes.push_back(&*m.erosion);
+    }
+    for (const LiquidSpec& l : scene.liquids) nodes.push_back(&l.liquid);
+    for (const PluginNode& bc : scene.boundary_conditions) nodes.push_back(&bc);
+    for (const OutputSpec& o : scene.outputs) nodes.push_back(&o.writer);
+    for (const PluginNode* node : nodes) {
+      const PluginInfo* info = registry_.find(node->type);
+      if (!info || !info->required_fields) continue;
+      for (const std::string& name : info->required_fields(node->params, dim_)) {
+        auto f = std::find_if(fields.begin(), fields.end(), [&](const auto& p) { return p.name == name; });
+        if (f == fields.end())
+          error(node->pointer + "/type", "reads point field '" + name + "', which no part of the core provides",
+                "a plugin reading fields of the core (see docs/plugins.md)", "\"" + node->type + "\"", node->type);
+        else if (!f->provided)
+          error(node->pointer + "/type", "reads point field '" + name + "', which this scene does not provide",
+                "a scene where it exists: it comes from " + f->owner, "\"" + node->type + "\"", node->type);
+      }
     }
   }
 

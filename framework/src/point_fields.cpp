@@ -1,0 +1,33 @@
+#include "point_fields.hpp"
+
+#include "saturated_mixture.hpp"
+#include "species_transport.hpp"
+
+namespace suffuse::detail {
+
+std::vector<ProvidedField> point_fields_of(const Scene& scene, const Registry& registry) {
+  std::vector<ProvidedField> fields;
+  const PointSet core(scene.dim);
+  for (FieldId id = 0; id < core.field_count(); ++id) fields.push_back({core.info(id).name, "the core, always", true});
+  const bool saturated = scene.saturated();
+  for (const FieldInfo& f : SaturatedMixture::field_infos())
+    fields.push_back({f.name, "the saturated mixture, when a body has a \"liquid\"", saturated});
+  // Whether fines are tracked depends on what the inlets bring: ask the
+  // boundary conditions (their constructors only read parameters).
+  std::vector<LiquidOpening> openings;
+  for (const PluginNode& bc : scene.boundary_conditions) {
+    if (!registry.find(bc.type)) continue;
+    for (const LiquidOpening& o :
+         registry.create<BoundaryCondition>(bc.type, {bc.params, scene.dim, bc.pointer})->liquid_openings())
+      openings.push_back(o);
+  }
+  const bool fines = saturated && SpeciesTransport::tracks_fines(scene, openings);
+  for (const FieldInfo& f : SpeciesTransport::fines_field_infos())
+    fields.push_back({f.name,
+                      "the species transport, when fines are tracked: a material has \"erosion\", a saturated body "
+                      "has fines_content or concentration, or an inlet brings fines",
+                      fines});
+  return fields;
+}
+
+}  // namespace suffuse::detail
