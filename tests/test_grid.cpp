@@ -2,8 +2,11 @@
 // and the load ramp they share.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string>
 #include <suffuse/boundary_condition.hpp>
 #include <suffuse/grid_face.hpp>
+#include <vector>
 
 namespace {
 
@@ -19,6 +22,61 @@ double face_total(const GridGeometry& grid, GridFace face) {
   double total = 0;
   for (std::int64_t I : suffuse::face_nodes(grid, face)) total += suffuse::face_node_area(grid, face, I);
   return total;
+}
+
+// Names map to (axis, side) in schema order; another name is no face.
+TEST(GridFace, NamesAndFaces) {
+  const std::vector<std::string> names = suffuse::grid_face_names();
+  ASSERT_EQ(names, (std::vector<std::string>{"left", "right", "bottom", "top", "front", "back"}));
+  for (int f = 0; f < 6; ++f) {
+    const auto face = suffuse::grid_face(names[f]);
+    ASSERT_TRUE(face) << names[f];
+    EXPECT_EQ(face->axis, f / 2) << names[f];
+    EXPECT_EQ(face->upper, f % 2 == 1) << names[f];
+    EXPECT_EQ(face->outward(), f % 2 == 1 ? 1.0 : -1.0) << names[f];
+  }
+  EXPECT_FALSE(suffuse::grid_face("middle"));
+  EXPECT_FALSE(suffuse::grid_face("Left")) << "names are case sensitive";
+}
+
+// front and back exist in 3D only; the issue names the key and lists the faces.
+TEST(GridFace, IssueForAFaceTheDimensionLacks) {
+  EXPECT_FALSE(suffuse::grid_face_issue("face", "top", 2));
+  EXPECT_FALSE(suffuse::grid_face_issue("face", "back", 3));
+  const auto in_2d = suffuse::grid_face_issue("face", "front", 2);
+  ASSERT_TRUE(in_2d);
+  EXPECT_EQ(in_2d->key, "face");
+  EXPECT_EQ(in_2d->problem, "no such face in 2D");
+  EXPECT_EQ(in_2d->expected, "one of {left, right, bottom, top}");
+  EXPECT_EQ(in_2d->found, "\"front\"");
+  const auto in_3d = suffuse::grid_face_issue("inlet", "middle", 3);
+  ASSERT_TRUE(in_3d);
+  EXPECT_EQ(in_3d->key, "inlet");
+  EXPECT_EQ(in_3d->problem, "no such face");
+  EXPECT_EQ(in_3d->expected, "one of {left, right, bottom, top, front, back}");
+}
+
+// The nodes of a face, in increasing order: every node whose index along the
+// face's axis is 0 (lower face) or the last (upper face).
+TEST(GridFace, NodesOfEachFace) {
+  const GridGeometry g2 = grid_2d();  // 4 x 3 nodes
+  EXPECT_EQ(suffuse::face_nodes(g2, GridFace{0, false}), (std::vector<std::int64_t>{0, 4, 8}));
+  EXPECT_EQ(suffuse::face_nodes(g2, GridFace{0, true}), (std::vector<std::int64_t>{3, 7, 11}));
+  EXPECT_EQ(suffuse::face_nodes(g2, GridFace{1, false}), (std::vector<std::int64_t>{0, 1, 2, 3}));
+  EXPECT_EQ(suffuse::face_nodes(g2, GridFace{1, true}), (std::vector<std::int64_t>{8, 9, 10, 11}));
+
+  const GridGeometry g3 = grid_3d();  // 3 x 4 x 5 nodes
+  const std::size_t expected_count[3] = {4 * 5, 3 * 5, 3 * 4};
+  for (int axis = 0; axis < 3; ++axis) {
+    for (bool upper : {false, true}) {
+      const auto nodes = suffuse::face_nodes(g3, GridFace{axis, upper});
+      EXPECT_EQ(nodes.size(), expected_count[axis]) << axis << upper;
+      EXPECT_TRUE(std::is_sorted(nodes.begin(), nodes.end()));
+      const int index = upper ? g3.nodes_per_axis()[axis] - 1 : 0;
+      for (std::int64_t I : nodes) EXPECT_EQ(g3.node_ijk(I)[axis], index) << axis << upper << " node " << I;
+    }
+  }
+  EXPECT_EQ(suffuse::face_nodes(g3, GridFace{2, true}).front(), g3.node_index(0, 0, 4));
 }
 
 // A node's tributary length in 2D: half a cell at the ends of the face, a
