@@ -104,7 +104,8 @@ TEST(EndToEnd, FailingRunLeavesReadableOutput) {
   const fs::path out = fresh_dir("fail");
   auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
   j["bodies"][0]["velocity"] = {2.0, 0.0};  // the free end flies out of the grid
-  j["boundary_conditions"] = nlohmann::json::array({j["boundary_conditions"][1], j["boundary_conditions"][2]});
+  j["boundary_conditions"].erase(  // nothing holds the bar back
+      suffuse::test::boundary_condition_index(j, {{"type", "bc/velocity"}, {"face", "left"}}));
   j["time"]["end"] = 1.0;
   j["outputs"][0]["interval"] = 0.01;
   std::ofstream(out / "flyaway.json") << j.dump(2);

@@ -97,6 +97,72 @@ TEST(PluginLoading, FileThatIsNotALibraryGivesTheDlopenMessage) {
   std::filesystem::remove(fake);
 }
 
+// A fresh directory for one test, removed with its files at the end.
+struct ScratchDirectory {
+  std::filesystem::path path;
+  explicit ScratchDirectory(const std::string& name) : path(std::filesystem::temp_directory_path() / name) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~ScratchDirectory() { std::filesystem::remove_all(path); }
+  void copy_in(const std::filesystem::path& file, const std::string& as) const {
+    std::filesystem::copy_file(file, path / as);
+  }
+};
+
+// A plugin directory may hold other .so files (a dependency, a stray text
+// file): they are skipped with a warning that names them, and the plugins load.
+TEST(PluginLoading, DirectoryScanSkipsFilesThatAreNotPlugins) {
+  const ScratchDirectory dir("suffuse_test_mixed_plugin_dir");
+  dir.copy_in(plugin_dir / "good" / "libsuffuse_test_good.so", "libgood.so");
+  dir.copy_in(plugin_dir / "no_entry" / "libsuffuse_test_no_entry.so", "libno_entry.so");
+  { std::ofstream(dir.path / "notes.so") << "not a library\n"; }
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  testing::internal::CaptureStderr();
+  loader.load_directory(dir.path);
+  const std::string err = testing::internal::GetCapturedStderr();
+
+  ASSERT_EQ(loader.libraries().size(), 1u);
+  EXPECT_EQ(loader.libraries()[0].path.filename(), "libgood.so");
+  EXPECT_NE(registry.find("phase/test_constant"), nullptr);
+  const std::string dir_name = std::filesystem::canonical(dir.path).string();
+  ASSERT_EQ(loader.warnings().size(), 2u);  // name order: libno_entry.so, notes.so
+  const std::string& no_entry = loader.warnings()[0];
+  EXPECT_NE(no_entry.find("skipped a file in plugin directory " + dir.path.string()), std::string::npos) << no_entry;
+  EXPECT_NE(no_entry.find(dir_name + "/libno_entry.so is not a suffuse plugin: it exports no 'suffuse_plugin_entry'"),
+            std::string::npos)
+      << no_entry;
+  const std::string& text_file = loader.warnings()[1];
+  EXPECT_NE(text_file.find("cannot load plugin library " + dir_name + "/notes.so"), std::string::npos) << text_file;
+  EXPECT_NE(text_file.find("file too short"), std::string::npos) << "the dynamic loader's reason: " << text_file;
+  for (const std::string& w : loader.warnings())
+    EXPECT_NE(err.find("suffuse: warning: " + w + "\n"), std::string::npos) << err;
+}
+
+// Only files that are no plugin at all are skipped: a real plugin library in a
+// directory that fails a check (here: names another library registered) stops the run.
+TEST(PluginLoading, DirectoryScanStillRefusesABadPluginLibrary) {
+  const ScratchDirectory dir("suffuse_test_duplicate_plugin_dir");
+  dir.copy_in(plugin_dir / "good" / "libsuffuse_test_good.so", "liba.so");
+  dir.copy_in(plugin_dir / "good" / "libsuffuse_test_good.so", "libb.so");
+  const std::string m = load_error(dir.path);
+  EXPECT_NE(m.find("is registered twice: by " + std::filesystem::canonical(dir.path / "liba.so").string()),
+            std::string::npos)
+      << m;
+}
+
+// A library named explicitly must load: there the same files are errors.
+TEST(PluginLoading, ExplicitFileThatIsNotAPluginIsStillAnError) {
+  const ScratchDirectory dir("suffuse_test_explicit_not_plugin");
+  { std::ofstream(dir.path / "notes.so") << "not a library\n"; }
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  EXPECT_THROW(loader.load_path(dir.path / "notes.so"), suffuse::Error);
+  EXPECT_THROW(loader.load_library(plugin_dir / "no_entry" / "libsuffuse_test_no_entry.so"), suffuse::Error);
+  EXPECT_TRUE(loader.warnings().empty());
+}
+
 TEST(PluginLoading, MissingPathIsAnError) {
   const std::string m = load_error("/nonexistent/suffuse/plugins");
   EXPECT_EQ(m, "plugin path /nonexistent/suffuse/plugins does not exist");

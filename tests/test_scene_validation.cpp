@@ -10,12 +10,15 @@
 
 #include "suffuse/diagnostics.hpp"
 #include "suffuse/scene.hpp"
+#include "test_support.hpp"
 
 namespace {
 
 using nlohmann::json;
 using suffuse::Diagnostic;
 using suffuse::SceneError;
+using suffuse::test::boundary_condition;
+using suffuse::test::boundary_condition_pointer;
 
 // A valid 2D elastic column 10 m high on a 1 x 42 grid of 0.25 m cells. The
 // time step's cfl and the material's poisson_ratio are left to their defaults.
@@ -219,10 +222,23 @@ TEST(SceneValidation, UnknownPluginTypeListsValidPluginsOfThatKind) {
                           "core"}});
 }
 
+// The test helper that finds a boundary condition by what it is: one match or
+// a loud failure, never a silent edit of the wrong condition.
+TEST(SceneValidation, TestHelperFindsExactlyOneBoundaryCondition) {
+  json j = base_scene();
+  EXPECT_EQ(boundary_condition_pointer(j, {{"type", "bc/velocity"}, {"face", "left"}}), "/boundary_conditions/1");
+  boundary_condition(j, {{"type", "bc/velocity"}, {"face", "left"}})["vx"] = 1.0;
+  EXPECT_EQ(j["boundary_conditions"][1]["vx"], 1.0);
+  EXPECT_THROW(boundary_condition(j, {{"type", "bc/velocity"}, {"face", "top"}}), std::logic_error) << "none";
+  EXPECT_THROW(boundary_condition(j, {{"type", "bc/velocity"}}), std::logic_error) << "three";
+}
+
 TEST(SceneValidation, UnknownBoundaryConditionPlugin) {
   json j = base_scene();
-  j["boundary_conditions"][2]["type"] = "bc/pressure_head";
-  expect_diagnostics(j, {{"/boundary_conditions/2/type", kUnknownPlugin,
+  const json right_roller = {{"type", "bc/velocity"}, {"face", "right"}};
+  const std::string at = boundary_condition_pointer(j, right_roller);
+  boundary_condition(j, right_roller)["type"] = "bc/pressure_head";
+  expect_diagnostics(j, {{at + "/type", kUnknownPlugin,
                           "a boundary condition plugin, one of {bc/inflow_flux, bc/pore_pressure, bc/traction, bc/velocity}", "\"bc/pressure_head\"",
                           "core"}});
 }
@@ -336,8 +352,10 @@ TEST(SceneValidation, JsonThatIsNotAnObject) {
 
 TEST(SceneValidation, UnknownChoiceValue) {
   json j = base_scene();
-  j["boundary_conditions"][0]["face"] = "middle";
-  expect_diagnostics(j, {{"/boundary_conditions/0/face", "unknown choice",
+  const json base = {{"type", "bc/velocity"}, {"face", "bottom"}};
+  const std::string at = boundary_condition_pointer(j, base);
+  boundary_condition(j, base)["face"] = "middle";
+  expect_diagnostics(j, {{at + "/face", "unknown choice",
                           "one of {left, right, bottom, top, front, back}", "string \"middle\"", "bc/velocity"}});
 }
 
@@ -360,7 +378,9 @@ TEST(SceneValidation, AllErrorsAreReportedTogether) {
   j.erase("time");                                       // missing section
   j["materials"]["soil"]["youngs_modulus"] = -5;         // out of range
   j["bodies"][0]["material"] = "clay";                   // undefined material
-  j["boundary_conditions"][0]["face"] = "middle";        // unknown choice
+  const json base = {{"type", "bc/velocity"}, {"face", "bottom"}};
+  const std::string base_face = boundary_condition_pointer(j, base) + "/face";
+  boundary_condition(j, base)["face"] = "middle";        // unknown choice
   j["outputs"][0]["type"] = "phase/linear_elastic";      // wrong kind
   const std::vector<Diagnostic> diags = diagnostics_of(j);
   ASSERT_EQ(diags.size(), 6u) << describe(diags);
@@ -368,7 +388,7 @@ TEST(SceneValidation, AllErrorsAreReportedTogether) {
                                              "/time",
                                              "/materials/soil/youngs_modulus",
                                              "/bodies/0/material",
-                                             "/boundary_conditions/0/face",
+                                             base_face,
                                              "/outputs/0/type"};
   for (std::size_t i = 0; i < pointers.size(); ++i) EXPECT_EQ(diags[i].pointer, pointers[i]) << describe(diags);
   EXPECT_EQ(diags[5].problem, "plugin of the wrong kind (phase)");
@@ -451,10 +471,10 @@ namespace {
 
 TEST(SceneValidation, BoundaryConditionCrossChecks) {
   json j = base_scene();
-  j["boundary_conditions"][0] = {{"type", "bc/velocity"}, {"face", "bottom"}};
-  j["boundary_conditions"][1] = {{"type", "bc/velocity"}, {"face", "left"}, {"box_min", {0, 0}},
-                                 {"box_max", {1, 1}}, {"vx", 0.0}};
-  j["boundary_conditions"][2] = {{"type", "bc/velocity"}, {"face", "front"}, {"vz", 0.0}};
+  j["boundary_conditions"] = {
+      {{"type", "bc/velocity"}, {"face", "bottom"}},
+      {{"type", "bc/velocity"}, {"face", "left"}, {"box_min", {0, 0}}, {"box_max", {1, 1}}, {"vx", 0.0}},
+      {{"type", "bc/velocity"}, {"face", "front"}, {"vz", 0.0}}};
   expect_diagnostics(j, {
       {"/boundary_conditions/0", "no velocity component given", "at least one of vx, vy", "none", "bc/velocity"},
       {"/boundary_conditions/1", "no unique node set", "either \"face\" or \"box_min\" and \"box_max\"", "both",
@@ -467,8 +487,10 @@ TEST(SceneValidation, BoundaryConditionCrossChecks) {
 
 TEST(SceneValidation, BoundaryConditionBoxChecks) {
   json j = base_scene();
-  j["boundary_conditions"][0] = {{"type", "bc/velocity"}, {"box_min", {0, 0}}, {"vy", 0.0}};
-  j["boundary_conditions"][1] = {{"type", "bc/velocity"}, {"box_min", {0, 2}}, {"box_max", {1, 1}}, {"vx", 0.0}};
+  j["boundary_conditions"] = {
+      {{"type", "bc/velocity"}, {"box_min", {0, 0}}, {"vy", 0.0}},
+      {{"type", "bc/velocity"}, {"box_min", {0, 2}}, {"box_max", {1, 1}}, {"vx", 0.0}},
+      {{"type", "bc/velocity"}, {"face", "right"}, {"vx", 0.0}}};
   expect_diagnostics(j, {
       {"/boundary_conditions/0/box_max", "missing box corner", "both box_min and box_max", "only one",
        "bc/velocity"},

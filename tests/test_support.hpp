@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <span>
 #include <fstream>
+#include <span>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/scene.hpp>
+#include <vector>
 
 namespace suffuse::test {
 
@@ -31,6 +33,33 @@ inline double max_relative_difference(std::span<const double> a, std::span<const
     diff = std::max(diff, std::abs(a[k] - b[k]));
   }
   return scale > 0 ? diff / scale : diff;
+}
+
+// Index in scene["boundary_conditions"] of the one condition that has every
+// key of `match` with the same value, e.g. {{"type", "bc/velocity"}, {"face",
+// "left"}}: tests edit a condition by what it is, not by its position. Throws
+// (a test failure naming the match) unless exactly one condition matches.
+inline std::size_t boundary_condition_index(const nlohmann::json& scene, const nlohmann::json& match) {
+  const nlohmann::json& bcs = scene.at("boundary_conditions");
+  std::vector<std::size_t> found;
+  for (std::size_t i = 0; i < bcs.size(); ++i) {
+    bool same = true;
+    for (const auto& [key, value] : match.items()) same = same && bcs[i].contains(key) && bcs[i][key] == value;
+    if (same) found.push_back(i);
+  }
+  if (found.size() != 1)
+    throw std::logic_error("boundary_conditions: expected exactly one condition with " + match.dump() + ", found " +
+                           std::to_string(found.size()) + " in " + bcs.dump());
+  return found[0];
+}
+
+inline nlohmann::json& boundary_condition(nlohmann::json& scene, const nlohmann::json& match) {
+  return scene["boundary_conditions"][boundary_condition_index(scene, match)];
+}
+
+// The JSON pointer a diagnostic gives for that condition.
+inline std::string boundary_condition_pointer(const nlohmann::json& scene, const nlohmann::json& match) {
+  return "/boundary_conditions/" + std::to_string(boundary_condition_index(scene, match));
 }
 
 // A Scene from JSON, with the bundled plugins loaded into `registry`.

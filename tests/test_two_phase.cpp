@@ -11,6 +11,7 @@
 
 namespace {
 
+using suffuse::test::boundary_condition;
 using suffuse::test::read_json;
 using suffuse::test::scene_from;
 using suffuse::test::source_dir;
@@ -195,7 +196,7 @@ TEST(TwoPhase, UndrainedWaveArrival) {
   j["grid"]["cell_size"] = {0.01, 0.01};
   j["grid"]["cells"] = {1, 110};
   j["bodies"][0]["max"] = {0.01, 1.0};
-  j["boundary_conditions"][3]["box_max"] = {0.01, 1.0};
+  boundary_condition(j, {{"type", "bc/traction"}})["box_max"] = {0.01, 1.0};
   const double E = 1e6, KL = 1e8, n = 0.4, rho_sat = (1 - n) * 2650 + n * 1000, s = 1e4;
   const double cu = std::sqrt((E + KL / n) / rho_sat), u0 = s * (KL / n) / (KL / n + E);
 
@@ -229,7 +230,7 @@ std::vector<double> heave_history(double dh) {
   j["outputs"] = nlohmann::json::array();
   j["grid"]["cells"] = {1, 80};  // room above the column
   j["materials"]["sand"]["tension_cutoff"] = true;
-  j["boundary_conditions"][4]["head"] = 1.0 + dh;
+  boundary_condition(j, {{"type", "bc/pore_pressure"}, {"face", "bottom"}})["head"] = 1.0 + dh;
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
@@ -313,7 +314,7 @@ TEST(TwoPhase, ThreadsAgreeWithSerial) {
 TEST(TwoPhase, InflowFluxBoundary) {
   auto j = read_json(source_dir() / "share/scenes/upward_seepage.json");
   j["outputs"] = nlohmann::json::array();
-  j["boundary_conditions"][4] = {{"type", "bc/inflow_flux"}, {"face", "bottom"}, {"flux", 0.005}, {"ramp_time", 0.05}};
+  boundary_condition(j, {{"type", "bc/pore_pressure"}, {"face", "bottom"}}) = {{"type", "bc/inflow_flux"}, {"face", "bottom"}, {"flux", 0.005}, {"ramp_time", 0.05}};
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);

@@ -7,12 +7,24 @@
 #include <boost/dll/shared_library.hpp>
 #include <cstdlib>
 #include <cstring>
+#include <iostream>
 
 #include "suffuse/error.hpp"
 
 namespace suffuse {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// A file that is no suffuse plugin at all: not loadable, or without the entry
+// point. A directory scan skips it; a library named explicitly is refused.
+class NotAPluginError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace
 
 void PluginLoader::load_library(const fs::path& file) {
   std::error_code ec;
@@ -33,13 +45,13 @@ void PluginLoader::load_library(const fs::path& file) {
     library = std::make_shared<boost::dll::shared_library>(canonical.string(), mode);
   } catch (const std::exception& e) {
     const char* why = dlerror();  // boost keeps the dlerror text in its message as well
-    throw Error("cannot load plugin library " + canonical.string() + ": " + e.what() +
-                (why ? std::string(" (") + why + ")" : std::string()));
+    throw NotAPluginError("cannot load plugin library " + canonical.string() + ": " + e.what() +
+                          (why ? std::string(" (") + why + ")" : std::string()));
   }
   const char* symbol = "suffuse_plugin_entry";
   if (!library->has(symbol))
-    throw Error(canonical.string() + " is not a suffuse plugin: it exports no '" + symbol +
-                "' entry point (define one with SUFFUSE_PLUGIN_LIBRARY)");
+    throw NotAPluginError(canonical.string() + " is not a suffuse plugin: it exports no '" + symbol +
+                          "' entry point (define one with SUFFUSE_PLUGIN_LIBRARY)");
   const PluginEntry* entry = library->get<const PluginEntry*()>(symbol)();
   if (entry == nullptr) throw Error(canonical.string() + ": its entry point returned no plugin description");
   if (entry->abi_major != abi_major)
@@ -89,7 +101,14 @@ void PluginLoader::load_directory(const fs::path& dir) {
   for (const auto& entry : fs::directory_iterator(dir))
     if (entry.is_regular_file() && entry.path().extension() == ".so") files.push_back(entry.path());
   std::sort(files.begin(), files.end());
-  for (const auto& f : files) load_library(f);
+  for (const auto& f : files) {
+    try {
+      load_library(f);
+    } catch (const NotAPluginError& e) {
+      warnings_.push_back("skipped a file in plugin directory " + dir.string() + ": " + e.what());
+      std::cerr << "suffuse: warning: " << warnings_.back() << "\n";
+    }
+  }
 }
 
 void PluginLoader::load_path(const fs::path& path) {

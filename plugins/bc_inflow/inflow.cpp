@@ -2,7 +2,6 @@
 // a grid face (seepage inlet). At each face node the liquid's normal velocity
 // is set to v_s + q / n, n the nodal porosity (sum N n rho_L V / sum N rho_L V),
 // so list it after the constraints of the skeleton on the same face.
-#include <algorithm>
 #include <string>
 #include <suffuse/grid_face.hpp>
 #include <suffuse/plugin.hpp>
@@ -42,7 +41,7 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
 
   void constrain_velocity(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
     if (!state.has_liquid()) return;
-    const double q = flux_ * (ramp_ > 0 ? std::min(1.0, time / ramp_) : 1.0);
+    const double q = flux_ * suffuse::ramp_factor(time, ramp_);
     for (std::int64_t I : nodes_) {
       if (state.liquid_inertia[I] <= 0) continue;
       const double n = state.liquid_mass[I] / state.liquid_inertia[I];

@@ -2,7 +2,6 @@
 // face of a saturated body: a drained boundary or a seepage inlet/outlet.
 // The pressure enters the weak form as the boundary traction -p n on the
 // liquid and on the mixture; the liquid is left free to cross the face.
-#include <algorithm>
 #include <optional>
 #include <string>
 #include <suffuse/error.hpp>
@@ -66,21 +65,14 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
     areas_.clear();
     elevations_.clear();
     for (const std::int64_t I : nodes_) {
-      const auto ijk = grid.node_ijk(I);
-      double area = 1;  // tributary length (2D) or area (3D) of the node on the face
-      for (int a = 0; a < dim_; ++a) {
-        if (a == face_.axis) continue;
-        const bool end = ijk[a] == 0 || ijk[a] == grid.nodes_per_axis()[a] - 1;
-        area *= grid.cell_size()[a] * (end ? 0.5 : 1.0);
-      }
-      areas_.push_back(area);
+      areas_.push_back(suffuse::face_node_area(grid, face_, I));
       elevations_.push_back(grid.node_position(I)[dim_ - 1]);
     }
   }
 
   void apply_forces(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
     if (!state.has_liquid()) return;
-    const double r = ramp_ > 0 ? std::min(1.0, time / ramp_) : 1.0;
+    const double r = suffuse::ramp_factor(time, ramp_);
     for (std::size_t k = 0; k < nodes_.size(); ++k) {
       double p;
       if (head_) {

@@ -70,7 +70,7 @@ class TractionBC final : public suffuse::BoundaryCondition {
   }
 
   void apply_forces(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
-    const double factor = ramp_ > 0 ? std::min(1.0, time / ramp_) : 1.0;
+    const double factor = suffuse::ramp_factor(time, ramp_);
     for (std::size_t k = 0; k < nodes_.size(); ++k)
       for (int a = 0; a < dim_; ++a) state.force[nodes_[k] * dim_ + a] += factor * traction_[a] * areas_[k];
   }

@@ -1,5 +1,6 @@
 #pragma once
 // Boundary conditions act on sets of grid nodes at named stages of the step.
+#include <algorithm>
 #include <vector>
 
 #include "suffuse/grid.hpp"
@@ -13,6 +14,12 @@ struct LiquidOpening {
   GridFace face;
   double concentration = 0;  // volume of fines / volume of liquid entering [-]
 };
+
+// Factor of a load ramped linearly from zero at t = 0 to its full value at
+// ramp_time, and held after it (ramp_time 0: full at once).
+inline double ramp_factor(double time, double ramp_time) {
+  return ramp_time > 0 ? std::min(1.0, time / ramp_time) : 1.0;
+}
 
 class BoundaryCondition {
  public:

@@ -19,5 +19,9 @@ std::optional<GridFace> grid_face(const std::string& name);
 std::optional<ParameterIssue> grid_face_issue(const std::string& key, const std::string& name, int dim);
 // Indices of the grid nodes on a face, in increasing order.
 std::vector<std::int64_t> face_nodes(const GridGeometry& grid, GridFace face);
+// Tributary length (2D) or area (3D) of a node of the face: a cell size per
+// axis along the face, half of it where the node is at the end of that axis.
+// The areas of a face's nodes sum to the face's length or area.
+double face_node_area(const GridGeometry& grid, GridFace face, std::int64_t node);
 
 }  // namespace suffuse

@@ -26,7 +26,10 @@ class PluginLoader {
   // debug/release mismatch, or a library that registers nothing.
   // A file already loaded is skipped. Libraries are never unloaded.
   void load_library(const std::filesystem::path& file);
-  // Loads every "*.so" file of a directory, in name order.
+  // Loads every "*.so" file of a directory, in name order. A file that is not
+  // a suffuse plugin at all (dlopen fails, or no entry point) is skipped with
+  // a warning on stderr, kept in warnings(); a plugin library that fails a
+  // check (ABI, build type, duplicate names) is still an error.
   void load_directory(const std::filesystem::path& dir);
   // A file is loaded, a directory is scanned; a missing path is an error.
   void load_path(const std::filesystem::path& path);
@@ -38,6 +41,8 @@ class PluginLoader {
   static std::filesystem::path bundled_plugin_directory();
 
   const std::vector<LoadedLibrary>& libraries() const { return libraries_; }
+  // One message per file a directory scan skipped, naming the file and why.
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
   Registry& registry_;
@@ -47,6 +52,7 @@ class PluginLoader {
   // for the life of the process even after the loader is gone.
   std::vector<std::shared_ptr<void>> handles_;
   std::vector<LoadedLibrary> libraries_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace suffuse
