@@ -28,14 +28,7 @@ std::vector<std::int64_t> face_nodes(const GridGeometry& grid, GridFace face) {
 }
 
 double face_node_area(const GridGeometry& grid, GridFace face, std::int64_t node) {
-  const auto ijk = grid.node_ijk(node);
-  double area = 1;
-  for (int a = 0; a < grid.dim(); ++a) {
-    if (a == face.axis) continue;
-    const bool end = ijk[a] == 0 || ijk[a] == grid.nodes_per_axis()[a] - 1;
-    area *= grid.cell_size()[a] * (end ? 0.5 : 1.0);
-  }
-  return area;
+  return dual_face_area(grid.nodes_per_axis(), grid.cell_size(), grid.node_ijk(node), face.axis, grid.dim());
 }
 
 }  // namespace suffuse

@@ -53,7 +53,7 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b) {
   PointSet& pts = d_.points;
   const Liquid& liquid = *liquids_[*body.liquid];
   const double rho_s = phases_[body.material]->density(), rho_w = liquid.density();
-  const double c = body.concentration, rho_l = c * rho_s + (1 - c) * rho_w;
+  const double rho_l = suspension_density(body.concentration, rho_s, rho_w);
   const double* V = pts.data(pts.core().volume);
   const double* x = pts.data(pts.core().position);
   const double g = -gravity_[dim - 1];  // along the vertical (last) axis, downward

@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "suffuse/grid.hpp"
+
 namespace suffuse::detail {
 
 // Volume fraction of fines in the liquid a point carries: fines volume over
@@ -109,12 +111,7 @@ struct Transport {
     return a == 0 ? 1 : (a == 1 ? g.nodes[0] : static_cast<std::int64_t>(g.nodes[0]) * g.nodes[1]);
   }
   // Area of the dual-cell face normal to axis a at a node (halved at grid edges).
-  double face_area(const std::array<int, 3>& c, int a) const {
-    double area = 1;
-    for (int b = 0; b < D; ++b)
-      if (b != a) area *= g.h[b] * ((c[b] == 0 || c[b] == g.nodes[b] - 1) ? 0.5 : 1.0);
-    return area;
-  }
+  double face_area(const std::array<int, 3>& c, int a) const { return dual_face_area(g.nodes, g.h, c, a, D); }
   // Darcy flux component a at node I (zero where the node holds no liquid).
   double darcy(std::int64_t I, int a) const { return g.pore[I] > 0 ? g.darcy[I * D + a] : 0.0; }
 

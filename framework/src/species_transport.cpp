@@ -108,16 +108,9 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
                     "twice: keep one bc/pore_pressure or bc/inflow_flux per face");
     Opening opening{o.face, {}};
     for (std::int64_t I : face_nodes(d_.grid, o.face)) {
-      const auto ijk = d_.grid.node_ijk(I);
-      double area = 1;
-      for (int a = 0; a < dim; ++a) {
-        if (a == o.face.axis) continue;
-        const bool edge = ijk[a] == 0 || ijk[a] == d_.grid.nodes_per_axis()[a] - 1;
-        area *= d_.grid.cell_size()[a] * (edge ? 0.5 : 1.0);
-      }
-      opening.nodes.push_back({I, area});
+      opening.nodes.push_back({I, face_node_area(d_.grid, o.face, I)});
       const std::size_t k = static_cast<std::size_t>(I) * dim + o.face.axis;
-      inflow_liquid_[k] = o.concentration * rho_s + (1 - o.concentration) * rho_w;
+      inflow_liquid_[k] = suspension_density(o.concentration, rho_s, rho_w);
       inflow_fines_[k] = o.concentration * rho_s;
     }
     discharge_.push_back({grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)], 0, 0, 0, 0});
@@ -283,7 +276,7 @@ void SpeciesTransport::transport(double dt) {
       if (n[p] <= 0) continue;
       const double conc = fines ? suspended_concentration(fines[p], ml[p], rho_s[p], rho_w[p]) : 0.0;
       if (c) c[p] = conc;
-      rho[p] = conc * rho_s[p] + (1 - conc) * rho_w[p];
+      rho[p] = suspension_density(conc, rho_s[p], rho_w[p]);
       moving[p] = n[p] * V[p] * rho[p];
     }
   });

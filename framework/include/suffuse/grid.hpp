@@ -37,6 +37,18 @@ class GridGeometry {
   std::size_t node_count_;
 };
 
+// Area (a length in 2D) of the face normal to `axis` of the dual cell of node
+// ijk: a cell size along each other axis, halved where the node is at the end
+// of that axis. The one formula for tributary areas of boundary nodes and the
+// faces of the transport's dual cells.
+inline double dual_face_area(const std::array<int, 3>& nodes_per_axis, const std::array<double, 3>& cell_size,
+                             const std::array<int, 3>& ijk, int axis, int dim) {
+  double area = 1;
+  for (int b = 0; b < dim; ++b)
+    if (b != axis) area *= cell_size[b] * ((ijk[b] == 0 || ijk[b] == nodes_per_axis[b] - 1) ? 0.5 : 1.0);
+  return area;
+}
+
 // A face of the grid box: left/right (x = min/max), bottom/top (y), front/back (z).
 struct GridFace {
   int axis = 0;        // 0, 1 or 2

@@ -21,6 +21,10 @@ inline constexpr double reference_gravity = 9.81;
 // a run reports a lowered (numerically softened) liquid.
 inline constexpr double water_bulk_modulus = 2.2e9;
 
+// Density of a pore liquid that carries a volume fraction c of suspended
+// grains of density rho_s in water of density rho_w.
+inline double suspension_density(double c, double rho_s, double rho_w) { return c * rho_s + (1 - c) * rho_w; }
+
 // Hydraulic conductivity of a soil skeleton as a function of its porosity.
 class PermeabilityLaw {
  public:
