@@ -129,7 +129,6 @@ class Simulation {
   void scatter(const ScatterTargets& targets, Kernel&& kernel);
   void add_saturated_fields();
   void points_to_grid_saturated();
-  void update_grid_saturated();
   void update_conductivity(const MaterialRange& r);
   void set_geostatic_state(const BodySpec& body, PointRange range);
   void add_species_fields();
