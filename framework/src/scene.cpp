@@ -146,8 +146,7 @@ class SceneReader {
     if (top.has("description")) scene.description = top.string("description");
     if (top.has("damping")) scene.damping = top.number("damping");
     if (dim_ && top.has("gravity")) {
-      // Re-validate vectors that depend on the dimension now that it is known.
-      recheck_length(top, "gravity", "core (scene)", "");
+      check_gravity_length();
       scene.gravity = to_array(top.vector("gravity"));
     }
 
@@ -185,13 +184,14 @@ class SceneReader {
     return false;
   }
 
-  void recheck_length(const Parameters&, const std::string&, const std::string&, const std::string&) {
-    // validate_object already checked lengths when the dimension was known;
-    // at top level it was not (dimension is read in the same object), so check here.
-    const json* v = root_.contains("gravity") ? &root_["gravity"] : nullptr;
-    if (v && v->is_array() && static_cast<int>(v->size()) != dim_)
+  // The top level is validated before its own "dimension" is known, so the
+  // length of /gravity (one component per dimension) is checked here.
+  void check_gravity_length() {
+    if (!root_.contains("gravity")) return;  // the default, zero, fits any dimension
+    const json& gravity = root_["gravity"];
+    if (gravity.is_array() && static_cast<int>(gravity.size()) != dim_)
       error("/gravity", "wrong number of components", "array of " + std::to_string(dim_) + " numbers [m/s^2]",
-            show(*v), "core (scene)");
+            show(gravity), "core (scene)");
   }
 
   PluginNode plugin_node(const json& node, const std::string& ptr, PluginKind kind,

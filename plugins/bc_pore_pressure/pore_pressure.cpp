@@ -4,7 +4,6 @@
 // liquid and on the mixture; the liquid is left free to cross the face.
 #include <optional>
 #include <string>
-#include <suffuse/error.hpp>
 #include <suffuse/grid_face.hpp>
 #include <suffuse/plugin.hpp>
 #include <vector>
@@ -45,7 +44,6 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
 
   explicit PorePressureBC(const suffuse::PluginArgs& a)
       : dim_(a.dim),
-        where_(a.instance),
         face_(*suffuse::grid_face(a.params.string("face"))),
         gamma_(a.params.number("unit_weight")),
         ramp_(a.params.number("ramp_time")),
@@ -89,7 +87,6 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
 
  private:
   int dim_;
-  std::string where_;
   suffuse::GridFace face_;
   double gamma_, ramp_;
   std::optional<double> pressure_, head_, initial_head_;

@@ -1,7 +1,5 @@
 // bc/velocity: prescribed velocity components on a grid face or a box of
 // nodes. A roller is a fixed normal component, a clamp fixes all components.
-#include <cmath>
-#include <optional>
 #include <string>
 #include <suffuse/error.hpp>
 #include <suffuse/grid_face.hpp>

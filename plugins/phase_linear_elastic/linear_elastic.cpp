@@ -19,12 +19,10 @@ class LinearElastic final : public suffuse::Phase {
   }
 
   explicit LinearElastic(const suffuse::PluginArgs& args)
-      : rho_(args.params.number("density")),
-        E_(args.params.number("youngs_modulus")),
-        nu_(args.params.number("poisson_ratio")),
-        tension_cutoff_(args.params.boolean("tension_cutoff")) {
-    G_ = E_ / (2 * (1 + nu_));
-    lambda_ = E_ * nu_ / ((1 + nu_) * (1 - 2 * nu_));
+      : rho_(args.params.number("density")), tension_cutoff_(args.params.boolean("tension_cutoff")) {
+    const double E = args.params.number("youngs_modulus"), nu = args.params.number("poisson_ratio");
+    G_ = E / (2 * (1 + nu));
+    lambda_ = E * nu / ((1 + nu) * (1 - 2 * nu));
   }
 
   double density() const override { return rho_; }
@@ -61,7 +59,7 @@ class LinearElastic final : public suffuse::Phase {
     return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()(2);
   }
 
-  double rho_, E_, nu_;
+  double rho_;
   bool tension_cutoff_;
   double G_, lambda_;
 };

@@ -8,7 +8,6 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataWriter.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
