@@ -57,6 +57,7 @@ inline double third_deviatoric_invariant(const double* v) {
          s[2] * s[5] * s[5];
 }
 // Lode angle theta in [-pi/6, pi/6]: sin 3 theta = -(3 sqrt 3 / 2) J3 / J2^(3/2); 0 where J2 = 0.
+// Of a tension-positive stress: +pi/6 in triaxial compression, -pi/6 in triaxial extension.
 inline double lode_angle(const double* v) {
   const double j2 = second_deviatoric_invariant(v);
   if (!(j2 > 0)) return 0.0;

@@ -1,0 +1,138 @@
+// The step's kernels on their own: the scatter with 1, 2 and 3 threads, the
+// TVD limiter of the transport, the erosion limiter at the ultimate fines
+// content, and the soil-mechanics measures of the tensor header.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <suffuse/tensor.hpp>
+#include <vector>
+
+#include "executor.hpp"
+#include "species_kernels.hpp"
+
+namespace {
+
+using suffuse::detail::Executor;
+using suffuse::detail::ScatterTargets;
+
+// Ten nodal arrays of different lengths (more than any stage scatters into),
+// each point adding a known amount to a few entries of each.
+struct ScatterCase {
+  std::vector<std::vector<double>> arrays;
+  std::size_t points = 1001;
+  ScatterCase() {
+    for (int k = 0; k < 10; ++k) arrays.emplace_back(50 + 37 * k, 0.0);
+  }
+  std::vector<std::vector<double>> run(int threads) {
+    for (auto& a : arrays) std::fill(a.begin(), a.end(), 0.0);
+    Executor exec(threads);
+    ScatterTargets targets;
+    for (auto& a : arrays) targets.add(a);
+    exec.scatter(points, targets, [&](std::size_t b, std::size_t e, double* const* out) {
+      for (std::size_t p = b; p < e; ++p)
+        for (std::size_t k = 0; k < arrays.size(); ++k) {
+          const std::size_t n = arrays[k].size();
+          out[k][p % n] += 1.0 + 0.001 * static_cast<double>(p);
+          out[k][(7 * p + k) % n] += 0.5;
+        }
+    });
+    return arrays;
+  }
+};
+
+TEST(Kernels, ScatterWithOneTwoAndThreeThreadsAddsEveryContribution) {
+  ScatterCase c;
+  // The exact sums, point by point.
+  std::vector<std::vector<double>> expected;
+  for (const auto& a : c.arrays) expected.emplace_back(a.size(), 0.0);
+  for (std::size_t p = 0; p < c.points; ++p)
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      const std::size_t n = expected[k].size();
+      expected[k][p % n] += 1.0 + 0.001 * static_cast<double>(p);
+      expected[k][(7 * p + k) % n] += 0.5;
+    }
+  for (int threads : {1, 2, 3}) {
+    const auto got = c.run(threads);
+    for (std::size_t k = 0; k < got.size(); ++k)
+      for (std::size_t i = 0; i < got[k].size(); ++i)
+        ASSERT_NEAR(got[k][i], expected[k][i], 1e-12 * std::abs(expected[k][i]))
+            << threads << " threads, array " << k << ", entry " << i;
+    EXPECT_EQ(c.run(threads), got) << "the same numbers for the same thread count";
+  }
+}
+
+TEST(Kernels, ScatterTargetsRefuseMoreThanTheirCapacity) {
+  std::vector<std::vector<double>> arrays(ScatterTargets::capacity + 1, std::vector<double>(3));
+  ScatterTargets targets;
+  for (int k = 0; k < ScatterTargets::capacity; ++k) targets.add(arrays[k]);
+  EXPECT_THROW(targets.add(arrays.back()), suffuse::Error);
+}
+
+// MUSCL with van Leer: second order on a linear profile, upwind at an
+// extremum and without an upstream value, never a new extremum (TVD), at most
+// twice the upwind value.
+TEST(Kernels, VanLeerFaceValueIsTotalVariationDiminishing) {
+  using T = suffuse::detail::Transport<2>;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_DOUBLE_EQ(T::limited(2.0, 3.0, 1.0), 2.5);  // linear: the face midpoint
+  EXPECT_DOUBLE_EQ(T::limited(2.0, 1.0, 1.0), 2.0);  // a maximum at the upwind node
+  EXPECT_DOUBLE_EQ(T::limited(2.0, 3.0, nan), 2.0);  // no upstream value
+  EXPECT_DOUBLE_EQ(T::limited(2.0, 2.0, 1.0), 2.0);  // flat ahead
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  for (int k = 0; k < 100000; ++k) {
+    const double far = u(rng), up = u(rng), down = u(rng);
+    const double v = T::limited(up, down, far);
+    ASSERT_GE(v, std::min(up, down)) << far << " " << up << " " << down;
+    ASSERT_LE(v, std::max(up, down)) << far << " " << up << " " << down;
+    ASSERT_LE(v, 2 * up);
+  }
+}
+
+// A rate far too large for the step erodes exactly down to f_c_inf; a
+// negative one deposits at most the suspended fines; mass moves, none is made.
+TEST(Kernels, ErosionStopsAtTheUltimateFinesContent) {
+  std::vector<double> solid = {2.0, 2.0, 2.0}, fines = {0.5, 0.5, 0.05}, suspended = {0.0, 0.1, 0.0},
+                      liquid = {1.0, 1.0, 1.0}, eroded = {0.0, 0.0, 0.0}, volume = {1e-3, 1e-3, 1e-3},
+                      n = {0.3, 0.3, 0.3}, rho_s = {2650, 2650, 2650}, f_inf = {0.1, 0.1, 0.1};
+  std::vector<double> rate = {1e6, -1e6, 1e6};
+  const suffuse::detail::SpeciesPoints pt{solid.data(),  fines.data(), suspended.data(), liquid.data(),
+                                          eroded.data(), volume.data(), n.data(),        rho_s.data()};
+  const double total0 = solid[0] + liquid[0], dt = 1.0;
+  suffuse::detail::apply_erosion(0, 3, dt, pt, f_inf.data(), rate.data());
+  EXPECT_NEAR(fines[0] / solid[0], 0.1, 1e-15) << "eroded down to f_c_inf, not below";
+  EXPECT_NEAR(solid[0] + liquid[0], total0, 1e-15);
+  EXPECT_DOUBLE_EQ(eroded[0], 2.0 - solid[0]);
+  EXPECT_NEAR(n[0] - 0.3, eroded[0] / (2650 * 1e-3), 1e-15) << "the porosity grows by the eroded volume";
+  EXPECT_NEAR(rate[0], eroded[0] / (2650 * 1e-3 * dt), 1e-12) << "the rate applied is reported";
+  EXPECT_DOUBLE_EQ(suspended[1], 0.0) << "deposition takes at most the suspended fines";
+  EXPECT_DOUBLE_EQ(solid[1], 2.1);
+  EXPECT_DOUBLE_EQ(fines[2], 0.05) << "already below f_c_inf: nothing to erode";
+  EXPECT_DOUBLE_EQ(rate[2], 0.0);
+}
+
+// Soil-mechanics measures, compression positive: triaxial compression with
+// sigma_1 = 300 kPa, sigma_2 = sigma_3 = 100 kPa (tension positive storage).
+TEST(Kernels, TensorMeasuresOfATriaxialState) {
+  namespace t = suffuse::tensor;
+  const double s[6] = {-100e3, -300e3, -100e3, 0, 0, 0};
+  EXPECT_DOUBLE_EQ(t::mean_stress(s), 500e3 / 3);
+  EXPECT_NEAR(t::deviatoric_stress(s), 200e3, 1e-9);
+  EXPECT_NEAR(t::stress_ratio(s), 1.2, 1e-15);
+  EXPECT_NEAR(t::lode_angle(s), M_PI / 6, 1e-7) << "triaxial compression";
+  const double extension[6] = {-300e3, -100e3, -300e3, 0, 0, 0};
+  EXPECT_NEAR(t::lode_angle(extension), -M_PI / 6, 1e-7);
+  const double e[6] = {0.001, -0.002, 0.001, 0, 0, 0};  // isochoric shortening
+  EXPECT_DOUBLE_EQ(t::volumetric_strain(e), 0.0);
+  EXPECT_NEAR(t::deviatoric_strain(e), 0.002, 1e-15);
+  const double shear[6] = {0, 0, 0, 0, 0, 50e3};
+  EXPECT_NEAR(t::deviatoric_stress(shear), std::sqrt(3.0) * 50e3, 1e-9);
+  EXPECT_EQ(t::stress_ratio(shear), 0.0) << "no confinement, no ratio";
+  EXPECT_EQ(t::voigt_index(0, 1), 5);
+  EXPECT_EQ(t::voigt_index(2, 1), 3);
+  EXPECT_EQ(t::voigt_index(0, 2), 4);
+}
+
+}  // namespace
