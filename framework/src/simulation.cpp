@@ -199,6 +199,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   scatter_.assign(threads_ - 1, std::vector<double>(grid_.node_count() * per_node));
   chunk_errors_.resize(threads_);
   create_points();
+  for (const auto& bc : bcs_) bc->setup_points(grid_, points_);
   if (saturated_) {
     flux_magnitude_.assign(points_.size(), 0.0);
     const MassLedger start = mass_ledger();
@@ -428,7 +429,10 @@ void Simulation::points_to_grid_saturated() {
 
 void Simulation::apply_external_forces() {
   StageTimer t(times_.grid_update);
-  for (const auto& bc : bcs_) bc->apply_forces(grid_, nodes_, time_);
+  for (const auto& bc : bcs_) {
+    bc->apply_forces(grid_, nodes_, time_);
+    bc->apply_point_forces(grid_, points_, nodes_, time_);
+  }
 }
 
 void Simulation::constrain_velocity() {
