@@ -16,11 +16,13 @@ using suffuse::test::read_json;
 using suffuse::test::scene_from;
 using suffuse::test::source_dir;
 
-// Terzaghi's series, z measured down from the drained top.
+// Terzaghi's series, z measured down from the drained top (terms below
+// e^-50 dropped).
 double terzaghi_pressure(double u0, double z, double H, double Tv) {
   double u = 0;
   for (int m = 0; m < 200; ++m) {
     const double M = (2 * m + 1) * std::numbers::pi / 2;
+    if (M * M * Tv > 50) break;
     u += 2 * u0 / M * std::sin(M * z / H) * std::exp(-M * M * Tv);
   }
   return u;
@@ -30,6 +32,7 @@ double terzaghi_degree(double Tv) {
   double s = 0;
   for (int m = 0; m < 200; ++m) {
     const double M = (2 * m + 1) * std::numbers::pi / 2;
+    if (M * M * Tv > 50) break;
     s += 2 / (M * M) * std::exp(-M * M * Tv);
   }
   return 1 - s;
@@ -42,7 +45,10 @@ std::string text(double v) {
 }
 
 // share/scenes/terzaghi.json: isochrones within 0.03 u_0 everywhere along the
-// column and degree of consolidation within 0.03 at T_v = 0.05, 0.2, 0.5, 1.
+// column and degree of consolidation within 0.03 at T_v = 0.05, 0.2, 0.5, 1;
+// the same at every step of the windows 0.9 T_v to 1.1 T_v (except T_v = 0.05,
+// see below), and the total vertical stress sigma'_yy - p of every point
+// equal to the load (no gravity) over the windows of T_v = 0.2, 0.5 and 1.
 TEST(TwoPhase, TerzaghiConsolidation) {
   auto j = read_json(source_dir() / "share/scenes/terzaghi.json");
   j["outputs"] = nlohmann::json::array();
@@ -61,24 +67,90 @@ TEST(TwoPhase, TerzaghiConsolidation) {
   suffuse::Simulation sim(scene, registry);
   const auto& pts = sim.points();
   const suffuse::FieldId pressure = pts.id("pore_pressure");
-  for (const double Tv : {0.05, 0.2, 0.5, 1.0}) {
-    const double t = Tv * H * H / cv;
-    while (sim.time() < t - 0.5 * sim.dt()) sim.step();
+  struct Errors {
+    double isochrone = 0, degree = 0, total_stress = 0;
+  };
+  auto measure = [&](double Tv) {
     const double* x = pts.data(pts.core().position);
     const double* u = pts.data(pts.core().displacement);
     const double* p = pts.data(pressure);
-    double worst = 0, mean = 0;
+    const double* sig = pts.data(pts.core().stress);
+    Errors e;
+    double mean = 0;
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const double z = H - (x[2 * i + 1] - u[2 * i + 1]);  // initial depth below the drained top
-      worst = std::max(worst, std::abs(p[i] - terzaghi_pressure(u0, z, H, Tv)) / u0);
+      e.isochrone = std::max(e.isochrone, std::abs(p[i] - terzaghi_pressure(u0, z, H, Tv)) / u0);
+      e.total_stress = std::max(e.total_stress, std::abs((sig[6 * i + 1] - p[i]) / -s - 1));
       mean += p[i] / static_cast<double>(pts.size());
     }
-    const double degree = 1 - mean / u0;
-    EXPECT_LT(worst, 0.03) << "T_v = " << Tv << ": largest isochrone error / u_0";
-    EXPECT_NEAR(degree, terzaghi_degree(Tv), 0.03) << "T_v = " << Tv;
-    RecordProperty("isochrone_error_Tv_" + text(Tv), text(worst));
-    RecordProperty("degree_error_Tv_" + text(Tv), text(std::abs(degree - terzaghi_degree(Tv))));
+    e.degree = std::abs(1 - mean / u0 - terzaghi_degree(Tv));
+    return e;
+  };
+  for (const double Tv : {0.05, 0.2, 0.5, 1.0}) {
+    Errors window, at;
+    while (sim.time() < 1.1 * Tv * H * H / cv - 0.5 * sim.dt()) {
+      const bool at_Tv = sim.time() < Tv * H * H / cv - 0.5 * sim.dt();
+      sim.step();
+      const double tv = sim.time() * cv / (H * H);
+      if (tv < 0.9 * Tv) continue;
+      const Errors e = measure(tv);
+      if (at_Tv && sim.time() >= Tv * H * H / cv - 0.5 * sim.dt()) at = e;  // the step that reaches T_v
+      window.isochrone = std::max(window.isochrone, e.isochrone);
+      window.degree = std::max(window.degree, e.degree);
+      window.total_stress = std::max(window.total_stress, e.total_stress);
+    }
+    EXPECT_LT(at.isochrone, 0.03) << "T_v = " << Tv << ": largest isochrone error / u_0";
+    EXPECT_LT(at.degree, 0.03) << "T_v = " << Tv;
+    // Every step of the window. At T_v = 0.05 the drained, loaded top still
+    // rings (a vibration of the top cells started by the sudden drainage at
+    // t = 0, which neither FLIP nor the local damping of a steadily settling
+    // surface removes) and the column's undrained wave has not died out:
+    // known defect, measured 0.12 u_0 and 0.052 (docs/two-phase.md).
+    const bool early = Tv < 0.1;
+    EXPECT_LT(window.isochrone, early ? 0.13 : 0.03) << "T_v = " << Tv << " +- 10%: largest isochrone error / u_0";
+    EXPECT_LT(window.degree, early ? 0.06 : 0.03) << "T_v = " << Tv << " +- 10%";
+    // The load on the surface points moves with the settling surface: the
+    // total stress of every point is the load within 5% (on nodes fixed in
+    // space the top row carried 1.36 x the load at T_v = 0.2 and 1.90 x at 1;
+    // at T_v = 0.05 the ringing above, measured 0.128).
+    EXPECT_LT(window.total_stress, early ? 0.15 : 0.05) << "T_v = " << Tv << " +- 10%: total stress / load - 1";
+    RecordProperty("isochrone_error_Tv_" + text(Tv), text(at.isochrone));
+    RecordProperty("degree_error_Tv_" + text(Tv), text(at.degree));
+    RecordProperty("isochrone_error_window_Tv_" + text(Tv), text(window.isochrone));
+    RecordProperty("degree_error_window_Tv_" + text(Tv), text(window.degree));
+    RecordProperty("total_stress_error_window_Tv_" + text(Tv), text(window.total_stress));
   }
+}
+
+// bc/traction on a dry column that settles 1.5 cells (30 kPa on E_oed = 1
+// MPa, ramped over 0.1 s, damped): the load follows the surface points. On
+// the nodes at the initial surface it would act on nodes the body has left.
+TEST(TwoPhase, TractionFollowsTheSettlingSurface) {
+  auto j = read_json(source_dir() / "share/scenes/terzaghi.json");
+  j["outputs"] = nlohmann::json::array();
+  j.erase("liquids");
+  j["materials"]["soil"].erase("permeability");
+  for (const char* key : {"liquid", "porosity", "pore_pressure", "stress"}) j["bodies"][0].erase(key);
+  j["damping"] = 0.3;
+  j["time"]["end"] = 0.6;
+  const double s = 3e4, E = 1e6, H = 1.0;
+  j["boundary_conditions"][3]["traction"] = {0.0, -s};
+  j["boundary_conditions"][3]["ramp_time"] = 0.1;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  sim.run({});
+  const auto& pts = sim.points();
+  const double* sig = pts.data(pts.core().stress);
+  const double* u = pts.data(pts.core().displacement);
+  double worst = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) worst = std::max(worst, std::abs(sig[6 * i + 1] / -s - 1));
+  const double settlement = -u[2 * (pts.size() - 1) + 1];
+  EXPECT_GT(settlement, 1.4 * 0.02) << "more than a cell";
+  EXPECT_NEAR(settlement / (s * H / E), 1.0, 0.05);
+  EXPECT_LT(worst, 0.05) << "sigma_yy / load - 1, every point";
+  RecordProperty("dry_settlement_ratio", text(settlement / (s * H / E)));
+  RecordProperty("dry_stress_error", text(worst));
 }
 
 // Invalid saturated scenes are caught before anything is built.

@@ -58,6 +58,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
   create_bodies();
+  for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
   clock_ = SimulationClock(scene.dt ? *scene.dt : critical_time_step());
 }
 
@@ -114,6 +115,13 @@ void Simulation::timed(Stage stage, Work&& work) {
   work();
 }
 
+void Simulation::apply_loads(double time) {
+  for (const auto& bc : bcs_) {
+    bc->apply_forces(domain_->grid, domain_->nodes, time);
+    bc->apply_point_forces(domain_->grid, domain_->points, domain_->nodes, time);
+  }
+}
+
 void Simulation::constrain_velocity(double time) {
   for (const auto& bc : bcs_) bc->constrain_velocity(domain_->grid, domain_->nodes, time);
 }
@@ -127,7 +135,7 @@ void Simulation::step() {
   timed(Stage::shape, [&] { d.locate_points(n, t); });         // shape functions at the points
   timed(Stage::p2g, [&] { momentum_->points_to_grid(); });      // nodal mass, momentum, forces
   timed(Stage::grid, [&] {
-    for (const auto& bc : bcs_) bc->apply_forces(d.grid, d.nodes, t);  // loads
+    apply_loads(t);
     momentum_->integrate_grid(dt);                              // nodal velocities at t + dt
     constrain_velocity(t + dt);
     momentum_->accelerations(dt);

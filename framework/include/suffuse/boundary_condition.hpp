@@ -1,9 +1,11 @@
 #pragma once
-// Boundary conditions act on sets of grid nodes at named stages of the step.
+// Boundary conditions act on sets of grid nodes at named stages of the step,
+// and may act through material points (a load carried by a body's surface).
 #include <algorithm>
 #include <vector>
 
 #include "suffuse/grid.hpp"
+#include "suffuse/points.hpp"
 
 namespace suffuse {
 
@@ -39,6 +41,17 @@ class BoundaryCondition {
   }
   // The faces this condition opens to the liquid (default: none).
   virtual std::vector<LiquidOpening> liquid_openings() const { return {}; }
+  // Once, after the material points are created and before the first step.
+  // Point indices stay valid for the whole run: the core never reorders or
+  // removes points.
+  virtual void setup_points(const GridGeometry& grid, const PointSet& points) { (void)grid; (void)points; }
+  // Stage "apply_forces", right after apply_forces(grid, nodes, time): add
+  // external nodal forces that act through the material points (a load that
+  // moves with a body's surface), from the points at the start of the step.
+  virtual void apply_point_forces(const GridGeometry& grid, const PointSet& points, NodeState& nodes,
+                                  double time) const {
+    (void)grid; (void)points; (void)nodes; (void)time;
+  }
 };
 
 }  // namespace suffuse

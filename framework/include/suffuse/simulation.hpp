@@ -134,6 +134,7 @@ class Simulation {
   void timed(Stage stage, Work&& work);
   void create_bodies();
   void set_geostatic_stress(const BodySpec& body, std::size_t begin, std::size_t end);
+  void apply_loads(double time);  // boundary conditions' external forces
   void constrain_velocity(double time);
   void write_run_info(const std::filesystem::path& file) const;
 
