@@ -29,10 +29,20 @@ class LinearElastic final : public suffuse::Phase {
   double p_wave_modulus() const override { return lambda_ + 2 * G_; }
 
   void update_stress(const suffuse::StressBatch& batch) const override {
+    if (batch.points.dim() == 2)
+      update<2>(batch);
+    else
+      update<3>(batch);
+  }
+
+ private:
+  template <int D>
+  void update(const suffuse::StressBatch& batch) const {
     double* stress = batch.points.data(batch.points.core().stress);
+    const suffuse::StepIncrements<D> increments(batch);
     for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
       // Full 3x3 increments; out-of-plane components stay zero in 2D (plane strain).
-      const auto [d, w] = suffuse::step_increment(batch, p);
+      const auto [d, w] = increments(p);
       double* s6 = stress + p * 6;
       const suffuse::tensor::Matrix s = suffuse::tensor::to_matrix(s6);
       const double tr = d[0][0] + d[1][1] + d[2][2];
@@ -51,7 +61,6 @@ class LinearElastic final : public suffuse::Phase {
     }
   }
 
- private:
   static double largest_principal(const suffuse::tensor::Matrix& s) {
     Eigen::Matrix3d m;
     for (int i = 0; i < 3; ++i)

@@ -14,7 +14,7 @@
 // phase imposes, e.g. the compaction of an eroding skeleton). The core
 // records the eigenstrain (field "eigenstrain") and removes it from the strain
 // increment of the step before the stress update: strain_increment() below
-// returns sym(L) dt minus the eigenstrain, so a base model wrapped by
+// (and StepIncrements) returns sym(L) dt minus the eigenstrain, so a base model wrapped by
 // another phase responds to the elastic part only.
 #include <cstddef>
 #include <span>
@@ -58,28 +58,50 @@ struct StressBatch {
   std::span<const double> eigenstrain;
 };
 
-// Strain and spin increments of point p over the step, 3x3 (zero out of
+// Strain and spin increments of a point over the step, 3x3 (zero out of
 // plane in 2D): d = sym(L) dt - eigenstrain, w = skew(L) dt, L the core's
-// "velocity_gradient". Every phase reads its strain through this, so an
+// "velocity_gradient". Every phase reads its strain through these, so an
 // eigenstrain is applied the same way by every model.
 struct StepIncrement {
   tensor::Matrix strain{}, spin{};
 };
-inline StepIncrement step_increment(const StressBatch& b, std::size_t p) {
-  const int D = b.points.dim();
-  const double* L = b.points.data(b.points.core().velocity_gradient) + p * D * D;
-  StepIncrement inc;
-  for (int i = 0; i < D; ++i)
-    for (int j = 0; j < D; ++j) {
-      inc.strain[i][j] = 0.5 * (L[i * D + j] + L[j * D + i]) * b.dt;
-      inc.spin[i][j] = 0.5 * (L[i * D + j] - L[j * D + i]) * b.dt;
+
+// The increments of a batch's points, for a loop over them: built once per
+// batch, with the dimension known at compile time.
+template <int D>
+class StepIncrements {
+ public:
+  explicit StepIncrements(const StressBatch& b)
+      : L_(b.points.data(b.points.core().velocity_gradient)),
+        dt_(b.dt),
+        eigenstrain_(b.eigenstrain.empty() ? nullptr : b.eigenstrain.data()),
+        first_(b.range.begin) {}
+  StepIncrement operator()(std::size_t p) const {
+    const double* L = L_ + p * D * D;
+    StepIncrement inc;
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) {
+        inc.strain[i][j] = 0.5 * (L[i * D + j] + L[j * D + i]) * dt_;
+        inc.spin[i][j] = 0.5 * (L[i * D + j] - L[j * D + i]) * dt_;
+      }
+    if (eigenstrain_) {
+      const double* e = eigenstrain_ + (p - first_) * 6;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) inc.strain[i][j] -= e[tensor::voigt_index(i, j)];
     }
-  if (!b.eigenstrain.empty()) {
-    const double* e = b.eigenstrain.data() + (p - b.range.begin) * 6;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) inc.strain[i][j] -= e[tensor::voigt_index(i, j)];
+    return inc;
   }
-  return inc;
+
+ private:
+  const double* L_;
+  double dt_;
+  const double* eigenstrain_;
+  std::size_t first_;
+};
+
+// The same for one point, the dimension read at run time.
+inline StepIncrement step_increment(const StressBatch& b, std::size_t p) {
+  return b.points.dim() == 2 ? StepIncrements<2>(b)(p) : StepIncrements<3>(b)(p);
 }
 
 class Phase {
