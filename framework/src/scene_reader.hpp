@@ -1,0 +1,71 @@
+#pragma once
+// Reading a scene file: the state shared by every section (the JSON, the
+// registry, the problems found so far) and the sections themselves. Each
+// section is read next to the plugin kinds and core parameters it
+// configures (scene_<section>.cpp); scene.cpp lists them in reading order.
+#include <array>
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "suffuse/scene.hpp"
+#include "validation.hpp"
+
+namespace suffuse::detail {
+
+class SceneReader {
+ public:
+  SceneReader(const Json& root, Registry& registry, std::vector<Diagnostic> earlier)
+      : root(root), registry(registry), diags(std::move(earlier)) {}
+
+  void error(std::string ptr, std::string problem, std::string expected, std::string found, std::string by) {
+    diags.push_back({std::move(ptr), std::move(problem), std::move(expected), std::move(found), std::move(by)});
+  }
+  // True if the top level has `key`; otherwise reports it missing.
+  bool require(const std::string& key);
+  // Validates a plugin node of `kind` (its "type", its parameters against the
+  // plugin's schema, the plugin's own check); `core_keys` are the core's.
+  PluginNode plugin_node(const Json& node, const std::string& ptr, PluginKind kind,
+                         const std::set<std::string>& core_keys = {});
+
+  const Json& root;
+  Registry& registry;
+  std::vector<Diagnostic> diags;
+  int dim = 0;           // 0 until /dimension is valid
+  bool grid_ok = false;  // the grid is valid, so bodies can be checked against it
+};
+
+// One section of a scene file.
+struct SceneSection {
+  std::string key;          // top-level key ("" for the top level itself)
+  std::string schema_name;  // name of its core schema for `suffuse describe` ("" if none)
+  std::string description;
+  std::function<ParameterSchema()> schema;  // the core's parameters of the section (or of each entry)
+  std::function<void(SceneReader&, Scene&)> read;
+};
+
+SceneSection top_level_section();
+SceneSection grid_section();
+SceneSection shape_function_section();
+SceneSection time_section();
+SceneSection materials_section();
+SceneSection liquids_section();
+SceneSection bodies_section();
+SceneSection boundary_conditions_section();
+SceneSection outputs_section();
+
+// The sections in reading order: the top level (dimension) first, the grid
+// before the bodies checked against it, materials and liquids before the
+// bodies that name them.
+const std::vector<SceneSection>& scene_sections();
+
+// Reads and validates a whole scene; throws SceneError listing every problem.
+Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier);
+
+// Shared by the sections.
+std::array<double, 3> to_array(const std::vector<double>& v);
+std::string format(double v);  // numbers in messages: as short as possible, as precise as needed
+std::string list(const std::vector<std::string>& names);  // {a, b, c}
+
+}  // namespace suffuse::detail

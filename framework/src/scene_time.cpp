@@ -1,0 +1,36 @@
+// Time control: end time, time step, mass scaling.
+#include "scene_reader.hpp"
+
+namespace suffuse::detail {
+
+namespace {
+
+ParameterSchema time_schema() {
+  ParameterSchema s;
+  s.number("end").with_unit("s").above(0).doc("Simulation end time");
+  s.number("dt").with_unit("s").above(0).may_be_absent().doc(
+      "Fixed time step; absent: automatic, cfl * h / max wave speed");
+  s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
+      "Courant factor of the automatic time step");
+  s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
+      "Multiplies every inertia (not the weight) for quasi-static runs: the automatic step grows by its square "
+      "root; dynamics are no longer physical. Printed in the run log and stored in <name>.run.json");
+  
+  return s;
+}
+
+void read_time(SceneReader& r, Scene& scene) {
+  if (!r.require("time")) return;
+  Parameters t = validate_object(r.root["time"], time_schema(), "/time", "core (time)",
+                                         r.dim, r.diags);
+  if (t.has("end")) scene.end_time = t.number("end");
+  scene.dt = t.maybe_number("dt");
+  if (t.has("cfl")) scene.cfl = t.number("cfl");
+  if (t.has("mass_scaling")) scene.mass_scaling = t.number("mass_scaling");
+}
+
+}  // namespace
+
+SceneSection time_section() { return {"time", "time", "Time control", time_schema, read_time}; }
+
+}  // namespace suffuse::detail

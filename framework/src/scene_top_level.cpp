@@ -1,0 +1,59 @@
+// The top level of a scene: dimension, gravity, damping, plugin paths.
+#include "scene_reader.hpp"
+
+namespace suffuse::detail {
+
+namespace {
+
+// The top level is validated before its own "dimension" is known, so the
+// length of /gravity (one component per dimension) is checked here.
+void check_gravity_length(SceneReader& r) {
+  if (!r.root.contains("gravity")) return;  // the default, zero, fits any dimension
+  const Json& gravity = r.root["gravity"];
+  if (gravity.is_array() && static_cast<int>(gravity.size()) != r.dim)
+    r.error("/gravity", "wrong number of components", "array of " + std::to_string(r.dim) + " numbers [m/s^2]",
+            show(gravity), "core (scene)");
+}
+
+ParameterSchema top_level_schema() {
+  ParameterSchema s;
+  s.string("description").fallback(std::string()).doc("What the scene shows and how to read its results");
+  s.integer("dimension").at_least(2).at_most(3).with_unit("-").doc(
+      "Spatial dimension: 2 (plane strain) or 3. A 1D column is a 2D strip one cell wide");
+  s.string_list("plugin_paths").fallback(std::vector<std::string>{}).doc(
+      "Plugin libraries or directories searched first, relative to the scene file");
+  s.vector("gravity").with_unit("m/s^2").fallback(std::vector<double>{}).doc(
+      "Gravitational acceleration, one component per dimension (default zero)");
+  s.number("damping").at_least(0).below(1).with_unit("-").fallback(0.0).doc(
+      "Local non-viscous damping coefficient for quasi-static problems (0: none)");
+  
+  return s;
+}
+
+void read_top_level(SceneReader& r, Scene& scene) {
+  // The other sections are read by their own readers.
+  std::set<std::string> structured;
+  for (const SceneSection& s : scene_sections())
+    if (!s.key.empty()) structured.insert(s.key);
+  Parameters top = validate_object(r.root, top_level_schema(), "", "core (scene)", 0, r.diags, structured);
+  r.dim = top.has("dimension") ? static_cast<int>(top.integer("dimension")) : 0;
+  scene.dim = r.dim ? r.dim : 2;
+  // A value that failed validation is absent: read only what is there.
+  if (top.has("description")) scene.description = top.string("description");
+  if (top.has("damping")) scene.damping = top.number("damping");
+  if (r.dim && top.has("gravity")) {
+    check_gravity_length(r);
+    scene.gravity = to_array(top.vector("gravity"));
+  }
+}
+
+}  // namespace
+
+SceneSection top_level_section() {
+  return {"", "scene",
+          "Top level of a scene file; also holds the sections grid, time, shape_function, materials, liquids, bodies, "
+          "boundary_conditions and outputs",
+          top_level_schema, read_top_level};
+}
+
+}  // namespace suffuse::detail
