@@ -58,6 +58,8 @@ MassLedger SpeciesTransport::mass_ledger(double time) const {
   for (double* total : {&l.solid, &l.liquid, &l.skeleton_fines, &l.suspended_fines, &l.eroded})
     *total = global_sum(*total);
   l.boundaries = discharge_;
+  for (BoundaryDischarge& d : l.boundaries)
+    for (double* total : {&d.liquid_out, &d.liquid_in, &d.fines_out, &d.fines_in}) *total = global_sum(*total);
   return l;
 }
 
