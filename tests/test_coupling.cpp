@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <suffuse/error.hpp>
 #include <suffuse/simulation.hpp>
 #include <vector>
@@ -15,6 +16,12 @@
 namespace {
 
 using suffuse::test::scene_from;
+
+std::string sci(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
 
 // A rigid column (every skeleton node held) with a uniform Darcy flux q from
 // base to top, no gravity, erosion/fines_limited: the eroded fraction grows
@@ -110,8 +117,8 @@ TEST(CoupledPhase, StressFollowsTheStiffnessOnAHeldSkeleton) {
       reached = std::max(reached, fer[p]);
     }
   }
-  RecordProperty("worst_stress_error", std::to_string(worst_stress));
-  RecordProperty("worst_eroded_fraction_error", std::to_string(worst_fraction));
+  RecordProperty("worst_stress_error", sci(worst_stress));
+  RecordProperty("worst_eroded_fraction_error", sci(worst_fraction));
   EXPECT_LT(worst_stress, 1e-12);
   EXPECT_LT(worst_fraction, 0.01 * eroded_fraction(end));
   EXPECT_GT(reached, (1 - r) / a) << "the residual stiffness was reached";
@@ -158,8 +165,8 @@ TEST(Eigenstrain, FreeBodyFollowsItWithoutStress) {
     EXPECT_NEAR(e[p * 6 + 1], strain, 1e-12);
     EXPECT_EQ(e[p * 6 + 2], 0.0);
   }
-  RecordProperty("worst_displacement_error", std::to_string(worst_u / (0.5 * strain)));
-  RecordProperty("worst_stress", std::to_string(worst_s / (1e6 * strain)));
+  RecordProperty("worst_displacement_error", sci(worst_u / (0.5 * strain)));
+  RecordProperty("worst_stress", sci(worst_s / (1e6 * strain)));
   EXPECT_LT(worst_u, 0.02 * 0.5 * strain) << "2% of the edge displacement";
   EXPECT_LT(worst_s, 0.02 * 1e6 * strain) << "2% of the stress the eigenstrain would cause if held";
 }
