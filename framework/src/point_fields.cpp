@@ -10,8 +10,8 @@ std::vector<ProvidedField> point_fields_of(const Scene& scene, const Registry& r
   const PointSet core(scene.dim);
   for (FieldId id = 0; id < core.field_count(); ++id) fields.push_back({core.info(id).name, "the core, always", true});
   const bool saturated = scene.saturated();
-  for (const FieldInfo& f : SaturatedMixture::field_infos())
-    fields.push_back({f.name, "the saturated mixture, when a body has a \"liquid\"", saturated});
+  for (const auto& f : SaturatedMixture::fields_declared())
+    fields.push_back({f.info.name, "the saturated mixture, when a body has a \"liquid\"", saturated});
   // Whether fines are tracked depends on what the inlets bring: ask the
   // boundary conditions (their constructors only read parameters).
   std::vector<LiquidOpening> openings;
@@ -22,8 +22,8 @@ std::vector<ProvidedField> point_fields_of(const Scene& scene, const Registry& r
       openings.push_back(o);
   }
   const bool fines = saturated && SpeciesTransport::tracks_fines(scene, openings);
-  for (const FieldInfo& f : SpeciesTransport::fines_field_infos())
-    fields.push_back({f.name,
+  for (const auto& f : SpeciesTransport::fines_fields_declared())
+    fields.push_back({f.info.name,
                       "the species transport, when fines are tracked: a material has \"erosion\", a saturated body "
                       "has fines_content or concentration, or an inlet brings fines",
                       fines});

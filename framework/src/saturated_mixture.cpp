@@ -9,22 +9,26 @@
 
 namespace suffuse::detail {
 
-std::vector<FieldInfo> SaturatedMixture::field_infos() {
+std::vector<FieldDeclaration<MixtureFields>> SaturatedMixture::fields_declared() {
   using K = FieldKind;
+  using F = MixtureFields;
   return {
-      {coupling::porosity, K::Scalar, "-", "porosity n", true},
-      {coupling::porosity_increment, K::Scalar, "-", "change of the porosity over the step", false},
-      {"pore_pressure", K::Scalar, "Pa", "pore pressure p, compression positive", true},
-      {"pore_pressure_rate", K::Scalar, "Pa/s", "unsmoothed rate of the pore pressure", false},
-      {"liquid_velocity", K::Vector, "m/s", "velocity of the pore liquid", true},
-      {"hydraulic_conductivity", K::Scalar, "m/s", "hydraulic conductivity K", true},
-      {"darcy_flux", K::Vector, "m/s", "Darcy flux q = n (v_L - v_s)", true},
-      {"liquid_density", K::Scalar, "kg/m^3", "density of the pore liquid", true},
-      {"liquid_mass", K::Scalar, "kg", "pore liquid the point carries, transported (per metre in 2D)", true},
-      {"moving_liquid_mass", K::Scalar, "kg", "n rho_L V, the liquid mass of the momentum balance", false},
-      {"liquid_bulk_modulus", K::Scalar, "Pa", "K_L of the pore liquid", false},
-      {"grain_density", K::Scalar, "kg/m^3", "density rho_s of the solid", false},
-      {"water_density", K::Scalar, "kg/m^3", "density rho_w of the clean pore liquid", false},
+      {{coupling::porosity, K::Scalar, "-", "porosity n", true}, &F::porosity},
+      {{coupling::porosity_increment, K::Scalar, "-", "change of the porosity over the step", false},
+       &F::porosity_increment},
+      {{"pore_pressure", K::Scalar, "Pa", "pore pressure p, compression positive", true}, &F::pressure},
+      {{"pore_pressure_rate", K::Scalar, "Pa/s", "unsmoothed rate of the pore pressure", false}, &F::pressure_rate},
+      {{"liquid_velocity", K::Vector, "m/s", "velocity of the pore liquid", true}, &F::liquid_velocity},
+      {{"hydraulic_conductivity", K::Scalar, "m/s", "hydraulic conductivity K", true}, &F::conductivity},
+      {{"darcy_flux", K::Vector, "m/s", "Darcy flux q = n (v_L - v_s)", true}, &F::darcy_flux},
+      {{"liquid_density", K::Scalar, "kg/m^3", "density of the pore liquid", true}, &F::liquid_density},
+      {{"liquid_mass", K::Scalar, "kg", "pore liquid the point carries, transported (per metre in 2D)", true},
+       &F::liquid_mass},
+      {{"moving_liquid_mass", K::Scalar, "kg", "n rho_L V, the liquid mass of the momentum balance", false},
+       &F::moving_liquid_mass},
+      {{"liquid_bulk_modulus", K::Scalar, "Pa", "K_L of the pore liquid", false}, &F::bulk_modulus},
+      {{"grain_density", K::Scalar, "kg/m^3", "density rho_s of the solid", false}, &F::grain_density},
+      {{"water_density", K::Scalar, "kg/m^3", "density rho_w of the clean pore liquid", false}, &F::water_density},
   };
 }
 
@@ -39,9 +43,7 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
                                                  m.permeability->type,
                                                  {m.permeability->params, dim, m.permeability->pointer})
                                            : nullptr);
-  std::vector<FieldId> ids;
-  for (const FieldInfo& info : field_infos()) ids.push_back(d_.points.add_field(info));
-  f_ = {ids[0], ids[1], ids[2], ids[3], ids[4], ids[5], ids[6], ids[7], ids[8], ids[9], ids[10], ids[11], ids[12]};
+  f_ = register_fields(d_.points, fields_declared());
   const std::size_t nn = d_.grid.node_count();
   for (auto* v : {&node_drag_, &node_pressure_rate_, &node_volume_}) v->assign(nn, 0.0);
   node_darcy_.assign(nn * dim, 0.0);

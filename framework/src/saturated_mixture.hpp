@@ -10,6 +10,7 @@
 
 #include "domain.hpp"
 #include "momentum_balance.hpp"
+#include "point_fields.hpp"
 #include "suffuse/liquid.hpp"
 
 namespace suffuse::detail {
@@ -23,7 +24,7 @@ struct MixtureFields {
 class SaturatedMixture final : public MomentumBalance {
  public:
   // The point fields it registers, for validation and for the constructor.
-  static std::vector<FieldInfo> field_infos();
+  static std::vector<FieldDeclaration<MixtureFields>> fields_declared();
 
   SaturatedMixture(const Scene& scene, const Registry& registry, Domain& domain,
                    const std::vector<const Phase*>& phases);

@@ -18,20 +18,25 @@ bool SpeciesTransport::tracks_fines(const Scene& scene, const std::vector<Liquid
   return fines;
 }
 
-std::vector<FieldInfo> SpeciesTransport::fines_field_infos() {
+std::vector<FieldDeclaration<FinesFields>> SpeciesTransport::fines_fields_declared() {
   using K = FieldKind;
+  using F = FinesFields;
   return {
-      {"skeleton_fines", K::Scalar, "kg", "erodible fines in the skeleton", false},
-      {"suspended_fines", K::Scalar, "kg", "fines carried by the pore liquid", false},
-      {"eroded_mass", K::Scalar, "kg", "solid lost to the liquid, net", false},
-      {coupling::fines_content, K::Scalar, "-", "f_c, erodible fines / solid volume", true},
-      {coupling::fines_content_increment, K::Scalar, "-", "change of f_c over the step", false},
-      {"ultimate_fines_content", K::Scalar, "-", "f_c_inf, fines no law can erode", false},
-      {"concentration", K::Scalar, "-", "c, suspended fines / pore liquid volume", true},
-      {coupling::eroded_fraction, K::Scalar, "-", "f_er, eroded solid / initial solid mass", true},
-      {coupling::eroded_fraction_increment, K::Scalar, "-", "change of f_er over the step", false},
-      {"erosion_rate", K::Scalar, "1/s", "n_e, eroded solid volume / volume / time", true},
-      {"hydraulic_gradient", K::Scalar, "-", "|i| = |q| / K", true},
+      {{"skeleton_fines", K::Scalar, "kg", "erodible fines in the skeleton", false}, &F::skeleton_fines},
+      {{"suspended_fines", K::Scalar, "kg", "fines carried by the pore liquid", false}, &F::suspended_fines},
+      {{"eroded_mass", K::Scalar, "kg", "solid lost to the liquid, net", false}, &F::eroded_mass},
+      {{coupling::fines_content, K::Scalar, "-", "f_c, erodible fines / solid volume", true}, &F::fines_content},
+      {{coupling::fines_content_increment, K::Scalar, "-", "change of f_c over the step", false},
+       &F::fines_content_increment},
+      {{"ultimate_fines_content", K::Scalar, "-", "f_c_inf, fines no law can erode", false},
+       &F::ultimate_fines_content},
+      {{"concentration", K::Scalar, "-", "c, suspended fines / pore liquid volume", true}, &F::concentration},
+      {{coupling::eroded_fraction, K::Scalar, "-", "f_er, eroded solid / initial solid mass", true},
+       &F::eroded_fraction},
+      {{coupling::eroded_fraction_increment, K::Scalar, "-", "change of f_er over the step", false},
+       &F::eroded_fraction_increment},
+      {{"erosion_rate", K::Scalar, "1/s", "n_e, eroded solid volume / volume / time", true}, &F::erosion_rate},
+      {{"hydraulic_gradient", K::Scalar, "-", "|i| = |q| / K", true}, &F::hydraulic_gradient},
   };
 }
 
@@ -54,11 +59,7 @@ SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry,
                                                               {m.erosion->params, scene.dim, m.erosion->pointer})
                                  : nullptr);
   }
-  if (tracks_fines(scene, openings_of(bcs))) {
-    std::vector<FieldId> ids;
-    for (const FieldInfo& info : fines_field_infos()) ids.push_back(d_.points.add_field(info));
-    fines_ = FinesFields{ids[0], ids[1], ids[2], ids[3], ids[4], ids[5], ids[6], ids[7], ids[8], ids[9], ids[10]};
-  }
+  if (tracks_fines(scene, openings_of(bcs))) fines_ = register_fields(d_.points, fines_fields_declared());
   const std::size_t nn = d_.grid.node_count();
   node_face_.assign(nn * scene.dim, 0.0);
   for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_out_, &node_dliquid_, &node_dfines_,

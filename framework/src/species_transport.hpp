@@ -29,7 +29,7 @@ class SpeciesTransport {
   // Fines are tracked when a body holds some, a material erodes, or an inlet brings them.
   static bool tracks_fines(const Scene& scene, const std::vector<LiquidOpening>& openings);
   // The point fields it registers when it tracks fines.
-  static std::vector<FieldInfo> fines_field_infos();
+  static std::vector<FieldDeclaration<FinesFields>> fines_fields_declared();
 
   SpeciesTransport(const Scene& scene, const Registry& registry, Domain& domain, const SaturatedMixture& mixture,
                    const std::vector<std::unique_ptr<BoundaryCondition>>& bcs);

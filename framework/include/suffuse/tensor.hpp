@@ -66,6 +66,21 @@ inline double lode_angle(const double* v) {
   return std::asin(s) / 3;
 }
 
+// Isotropic linear elasticity with the Jaumann stress rate, one increment:
+// sigma + 2 G d + lambda tr(d) I + w sigma - sigma w, for the strain and spin
+// increments d and w of a step, so that a rigid rotation creates no stress.
+inline Matrix jaumann_elastic_increment(const Matrix& s, const Matrix& d, const Matrix& w, double G, double lambda) {
+  const double tr = d[0][0] + d[1][1] + d[2][2];
+  Matrix next;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double rotation = 0;
+      for (int k = 0; k < 3; ++k) rotation += w[i][k] * s[k][j] - s[i][k] * w[k][j];
+      next[i][j] = s[i][j] + 2 * G * d[i][j] + (i == j ? lambda * tr : 0.0) + rotation;
+    }
+  return next;
+}
+
 // Soil mechanics, compression positive.
 // Mean stress p = -tr sigma / 3 (of the effective stress: p').
 inline double mean_stress(const double* sigma) { return -trace(sigma) / 3; }

@@ -44,16 +44,8 @@ class LinearElastic final : public suffuse::Phase {
       // Full 3x3 increments; out-of-plane components stay zero in 2D (plane strain).
       const auto [d, w] = increments(p);
       double* s6 = stress + p * 6;
-      const suffuse::tensor::Matrix s = suffuse::tensor::to_matrix(s6);
-      const double tr = d[0][0] + d[1][1] + d[2][2];
-      suffuse::tensor::Matrix ns;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          // Jaumann: sigma += C:d + w.sigma - sigma.w
-          double rot = 0;
-          for (int k = 0; k < 3; ++k) rot += w[i][k] * s[k][j] - s[i][k] * w[k][j];
-          ns[i][j] = s[i][j] + 2 * G_ * d[i][j] + (i == j ? lambda_ * tr : 0.0) + rot;
-        }
+      suffuse::tensor::Matrix ns =
+          suffuse::tensor::jaumann_elastic_increment(suffuse::tensor::to_matrix(s6), d, w, G_, lambda_);
       if (tension_cutoff_ && largest_principal(ns) > 0)
         for (auto& row : ns)
           for (double& v : row) v = 0;

@@ -85,19 +85,13 @@ class ErodingElastic final : public suffuse::Phase {
     for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
       const double E = stiffness(f[p]);
       const double G = E / (2 * (1 + nu_)), lambda = E * nu_ / ((1 + nu_) * (1 - 2 * nu_));
-      // The strain increment without the eigenstrain, and the spin (Jaumann rate).
+      // The strain increment without the eigenstrain, and the spin.
       // (suffuse::StepIncrements<D>, built once per batch, is the faster form for a loop.)
       const auto [d, w] = suffuse::step_increment(b, p);
       double* s6 = stress + p * 6;
-      const suffuse::tensor::Matrix s = suffuse::tensor::to_matrix(s6);
-      const double tr = d[0][0] + d[1][1] + d[2][2];
-      suffuse::tensor::Matrix next;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          double rotation = 0;
-          for (int k = 0; k < 3; ++k) rotation += w[i][k] * s[k][j] - s[i][k] * w[k][j];
-          next[i][j] = s[i][j] + 2 * G * d[i][j] + (i == j ? lambda * tr : 0.0) + rotation;
-        }
+      // Hooke's law with the Jaumann rate (a rigid rotation creates no stress).
+      const suffuse::tensor::Matrix next =
+          suffuse::tensor::jaumann_elastic_increment(suffuse::tensor::to_matrix(s6), d, w, G, lambda);
       suffuse::tensor::store(next, s6);
     }
   }
