@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -188,8 +189,11 @@ TEST(Install, CoupledPhaseTemplateBuildsAndItsColumnSettles) {
   scene["plugin_paths"] = {(phase / "build/libmy_coupled_phase.so").string()};
   const auto linear = suffuse::test::read_json(inst.prefix / "share/suffuse/scenes/suffusion_column.json");
   const double eroding = settlement_after(scene, 10.0), elastic = settlement_after(linear, 10.0);
-  RecordProperty("settlement_eroding_elastic_m", std::to_string(eroding));
-  RecordProperty("settlement_linear_elastic_m", std::to_string(elastic));
+  char text[64];
+  std::snprintf(text, sizeof text, "%.4g", eroding);
+  RecordProperty("settlement_eroding_elastic_m", text);
+  std::snprintf(text, sizeof text, "%.4g", elastic);
+  RecordProperty("settlement_linear_elastic_m", text);
   // Softening can add at most the strain of the whole column at the residual
   // stiffness: int sigma'_v dy (1/(r M) - 1/M) = 514 Pa m (4 / 1.2e7 Pa) =
   // 1.7e-4 m (sigma'_v = (gamma' - i gamma_w) depth, M the constrained modulus).
