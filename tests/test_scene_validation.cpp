@@ -96,7 +96,7 @@ void expect_diagnostics(const json& scene, const std::vector<Diagnostic>& expect
   for (std::size_t i = 0; i < diags.size(); ++i) expect_diagnostic(diags[i], expected[i]);
 }
 
-const char* const kPhaseExpected = "a phase plugin, one of {phase/linear_elastic}";
+const char* const kPhaseExpected = "a phase plugin, one of {phase/linear_elastic, phase/mohr_coulomb}";
 const char* const kUnknownPlugin =
     "unknown plugin (no library found registers it; `suffuse plugins` lists what was found; add its library "
     "with the scene's \"plugin_paths\" or $SUFFUSE_PLUGIN_PATH)";
@@ -217,8 +217,8 @@ TEST(SceneValidation, MissingRequiredCoreParameter) {
 
 TEST(SceneValidation, UnknownPluginTypeListsValidPluginsOfThatKind) {
   json j = base_scene();
-  j["materials"]["soil"]["type"] = "phase/mohr_coulomb";
-  expect_diagnostics(j, {{"/materials/soil/type", kUnknownPlugin, kPhaseExpected, "\"phase/mohr_coulomb\"",
+  j["materials"]["soil"]["type"] = "phase/hardening_soil";
+  expect_diagnostics(j, {{"/materials/soil/type", kUnknownPlugin, kPhaseExpected, "\"phase/hardening_soil\"",
                           "core"}});
 }
 

@@ -1,0 +1,243 @@
+// phase/mohr_coulomb: elastic-perfectly plastic Mohr-Coulomb skeleton with a
+// non-associated flow rule (dilatancy angle) and an optional tension cut-off,
+// integrated with the exact return mapping in principal stresses of Clausen,
+// Damkilde & Andersen (2006, 2007): return to the yield plane, to one of its
+// two edges (triaxial compression and extension meridians) or to the apex.
+// Elasticity is isotropic with the Jaumann rate, as phase/linear_elastic.
+//
+// Signs: the core's, tension positive. Principal stresses are sorted
+// s1 >= s2 >= s3 (s1 the least compressive). The yield function is
+//   f = (s1 - s3) + (s1 + s3) sin(phi) - 2 c cos(phi) <= 0
+// and the plastic potential g the same with psi for phi. The apex, where
+// every edge meets, is the isotropic tension c cot(phi).
+#include <Eigen/Eigenvalues>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <suffuse/plugin.hpp>
+#include <suffuse/tensor.hpp>
+
+namespace {
+
+using Vec3 = std::array<double, 3>;
+
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// The return mapping in principal stresses, for stresses sorted s1 >= s2 >= s3.
+class MohrCoulombReturn {
+ public:
+  MohrCoulombReturn(double G, double lambda, double phi, double cohesion, double psi, double tension)
+      : G_(G), lambda_(lambda), sin_phi_(std::sin(phi)), k_(2 * cohesion * std::cos(phi)), tension_(tension) {
+    const double sp = sin_phi_, sq = std::sin(psi);
+    plane_ = {{1 + sp, 0, -(1 - sp)}, {1 + sq, 0, -(1 - sq)}};
+    compression_edge_ = {{0, 1 + sp, -(1 - sp)}, {0, 1 + sq, -(1 - sq)}};  // s1 = s2
+    extension_edge_ = {{1 + sp, -(1 - sp), 0}, {1 + sq, -(1 - sq), 0}};    // s2 = s3
+    apex_ = sp > 0 ? k_ / (2 * sp) : std::numeric_limits<double>::infinity();
+  }
+
+  double yield(const Vec3& s) const { return dot(plane_.a, s) - k_; }
+  bool admissible(const Vec3& s, double tol) const { return yield(s) <= tol && s[0] <= tension_ + tol; }
+
+  // The stress on the yield surface the trial stress returns to.
+  Vec3 operator()(const Vec3& trial, double tol) const {
+    Vec3 s = trial;
+    if (yield(trial) > tol) s = mohr_coulomb(trial, tol);
+    if (s[0] > tension_ + tol) s = rankine(s);
+    return s;
+  }
+
+ private:
+  struct Surface {
+    Vec3 a, b;  // gradients of the yield function and of the plastic potential
+  };
+
+  Vec3 stiffness(const Vec3& v) const {  // D v, the isotropic elastic stiffness in principal axes
+    const double tr = lambda_ * (v[0] + v[1] + v[2]);
+    return {2 * G_ * v[0] + tr, 2 * G_ * v[1] + tr, 2 * G_ * v[2] + tr};
+  }
+
+  Vec3 mohr_coulomb(const Vec3& trial, double tol) const {
+    // 1. The plane: one multiplier.
+    const Vec3 Db = stiffness(plane_.b);
+    const double dl = yield(trial) / dot(plane_.a, Db);
+    const Vec3 s = {trial[0] - dl * Db[0], trial[1] - dl * Db[1], trial[2] - dl * Db[2]};
+    if (s[0] >= s[1] - tol && s[1] >= s[2] - tol) return s;
+    // 2. An edge: the plane and its neighbour across the violated ordering.
+    const Surface& other = s[0] < s[1] ? compression_edge_ : extension_edge_;
+    Vec3 edge;
+    if (on_edge(trial, other, edge, tol)) return edge;
+    // 3. The apex (none for phi = 0: the edges of Tresca never meet).
+    if (std::isfinite(apex_)) return {apex_, apex_, apex_};
+    return edge;
+  }
+
+  // Two active surfaces: f_i(trial - D (dl_1 b_1 + dl_2 b_2)) = 0, both
+  // multipliers non-negative and the result still ordered.
+  bool on_edge(const Vec3& trial, const Surface& other, Vec3& out, double tol) const {
+    const Vec3 D1 = stiffness(plane_.b), D2 = stiffness(other.b);
+    const double a11 = dot(plane_.a, D1), a12 = dot(plane_.a, D2), a21 = dot(other.a, D1), a22 = dot(other.a, D2);
+    const double f1 = dot(plane_.a, trial) - k_, f2 = dot(other.a, trial) - k_;
+    const double det = a11 * a22 - a12 * a21;
+    const double l1 = (f1 * a22 - f2 * a12) / det, l2 = (a11 * f2 - a21 * f1) / det;
+    for (int i = 0; i < 3; ++i) out[i] = trial[i] - l1 * D1[i] - l2 * D2[i];
+    return l1 >= 0 && l2 >= 0 && out[0] >= out[1] - tol && out[1] >= out[2] - tol;
+  }
+
+  // Tension cut-off s_i <= t (Rankine, associated): the m largest principal
+  // stresses sit at t, with multipliers dl_i solving 2G dl_i + lambda L =
+  // trial_i - t (L their sum), the others below t. It only lowers f.
+  Vec3 rankine(const Vec3& trial) const {
+    for (int m = 1; m <= 3; ++m) {
+      double excess = 0;
+      for (int i = 0; i < m; ++i) excess += trial[i] - tension_;
+      const double L = excess / (2 * G_ + m * lambda_);
+      bool ok = true;
+      Vec3 s = trial;
+      for (int i = 0; i < 3; ++i) {
+        const double dl = i < m ? (trial[i] - tension_ - lambda_ * L) / (2 * G_) : 0.0;
+        ok = ok && dl >= 0;
+        s[i] = trial[i] - 2 * G_ * dl - lambda_ * L;
+      }
+      for (int i = m; i < 3; ++i) ok = ok && s[i] <= tension_;
+      if (ok) return s;
+    }
+    return {tension_, tension_, tension_};
+  }
+
+  double G_, lambda_, sin_phi_, k_, tension_, apex_;
+  Surface plane_, compression_edge_, extension_edge_;
+};
+
+constexpr double degree = 3.14159265358979323846 / 180;
+
+class MohrCoulomb final : public suffuse::Phase {
+ public:
+  static suffuse::ParameterSchema schema() {
+    suffuse::ParameterSchema s;
+    s.number("density").with_unit("kg/m^3").above(0).doc("Mass density (of the grains in a saturated body)");
+    s.number("youngs_modulus").with_unit("Pa").above(0).doc("Young's modulus E");
+    s.number("poisson_ratio").with_unit("-").above(-1).below(0.5).fallback(0.3).doc("Poisson's ratio nu");
+    s.number("friction_angle").with_unit("deg").at_least(0).below(90).doc("Friction angle phi");
+    s.number("cohesion").with_unit("Pa").at_least(0).fallback(0.0).doc("Cohesion c");
+    s.number("dilatancy_angle").with_unit("deg").at_least(0).below(90).fallback(0.0).doc(
+        "Dilatancy angle psi of the plastic potential (psi = phi: associated flow)");
+    s.number("tensile_strength").with_unit("Pa").at_least(0).may_be_absent().doc(
+        "Tension cut-off: no principal (effective) stress above it. Absent: the apex of the cone, c cot(phi); "
+        "required for phi = 0");
+    return s;
+  }
+
+  static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters& p, int) {
+    std::vector<suffuse::ParameterIssue> issues;
+    const double phi = p.number("friction_angle"), psi = p.number("dilatancy_angle"), c = p.number("cohesion");
+    if (psi > phi)
+      issues.push_back({"dilatancy_angle", "dilatancy above friction", "at most friction_angle = " + std::to_string(phi),
+                        std::to_string(psi)});
+    if (phi == 0 && c == 0)
+      issues.push_back({"cohesion", "no strength at all", "cohesion > 0 when friction_angle is 0", "0"});
+    if (phi == 0 && !p.has("tensile_strength"))
+      issues.push_back({"tensile_strength", "no tension limit", "a tensile_strength when friction_angle is 0 (Tresca)",
+                        "nothing"});
+    if (p.has("tensile_strength") && phi > 0) {
+      const double apex = c * std::cos(phi * degree) / std::sin(phi * degree);
+      if (p.number("tensile_strength") > apex)
+        issues.push_back({"tensile_strength", "cut-off beyond the apex",
+                          "at most c cot(phi) = " + std::to_string(apex) + " Pa",
+                          std::to_string(p.number("tensile_strength"))});
+    }
+    return issues;
+  }
+
+  explicit MohrCoulomb(const suffuse::PluginArgs& args)
+      : rho_(args.params.number("density")),
+        nu_(args.params.number("poisson_ratio")),
+        E_(args.params.number("youngs_modulus")),
+        G_(E_ / (2 * (1 + nu_))),
+        lambda_(E_ * nu_ / ((1 + nu_) * (1 - 2 * nu_))),
+        cohesion_(args.params.number("cohesion")),
+        return_(G_, lambda_, args.params.number("friction_angle") * degree, args.params.number("cohesion"),
+                args.params.number("dilatancy_angle") * degree, tension_of(args.params)) {}
+
+  double density() const override { return rho_; }
+  double p_wave_modulus() const override { return lambda_ + 2 * G_; }
+
+  void add_fields(suffuse::PointSet& points) override {
+    using K = suffuse::FieldKind;
+    plastic_strain_ =
+        points.add_field({"plastic_strain", K::SymmetricTensor, "-", "accumulated plastic strain (Mohr-Coulomb)", true});
+    yielding_ = points.add_field({"yielding", K::Scalar, "-", "1 where the last step was plastic, else 0", true});
+  }
+
+  void update_stress(const suffuse::StressBatch& batch) const override {
+    if (batch.points.dim() == 2)
+      update<2>(batch);
+    else
+      update<3>(batch);
+  }
+
+ private:
+  static double tension_of(const suffuse::Parameters& p) {
+    if (p.has("tensile_strength")) return p.number("tensile_strength");
+    const double phi = p.number("friction_angle") * degree;
+    return phi > 0 ? p.number("cohesion") * std::cos(phi) / std::sin(phi) : std::numeric_limits<double>::infinity();
+  }
+
+  template <int D>
+  void update(const suffuse::StressBatch& batch) const {
+    namespace t = suffuse::tensor;
+    suffuse::PointSet& pts = batch.points;
+    double* stress = pts.data(pts.core().stress);
+    double* plastic = pts.data(plastic_strain_);
+    double* yielding = pts.data(yielding_);
+    const suffuse::StepIncrements<D> increments(batch);
+    for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
+      const auto [d, w] = increments(p);
+      double* s6 = stress + p * 6;
+      const t::Matrix trial = t::jaumann_elastic_increment(t::to_matrix(s6), d, w, G_, lambda_);
+      Eigen::Matrix3d m;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) m(i, j) = trial[i][j];
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(m);  // ascending eigenvalues
+      const Vec3 principal = {eig.eigenvalues()(2), eig.eigenvalues()(1), eig.eigenvalues()(0)};
+      const double tol = 1e-12 * (std::abs(principal[0]) + std::abs(principal[2]) + cohesion_);
+      if (return_.admissible(principal, tol)) {
+        t::store(trial, s6);
+        yielding[p] = 0;
+        continue;
+      }
+      const Vec3 s = return_(principal, tol);
+      // Back to the axes of the trial stress; the plastic strain is D^-1 of the stress removed.
+      const Vec3 removed = {principal[0] - s[0], principal[1] - s[1], principal[2] - s[2]};
+      const double tr = removed[0] + removed[1] + removed[2];
+      Vec3 de;
+      for (int i = 0; i < 3; ++i) de[i] = ((1 + nu_) * removed[i] - nu_ * tr) / E_;
+      t::Matrix next{}, dep{};
+      for (int a = 0; a < 3; ++a) {
+        const auto v = eig.eigenvectors().col(2 - a);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            next[i][j] += s[a] * v(i) * v(j);
+            dep[i][j] += de[a] * v(i) * v(j);
+          }
+      }
+      t::store(next, s6);
+      double* ep = plastic + p * 6;
+      const t::Voigt add = t::to_voigt(dep);
+      for (int c = 0; c < 6; ++c) ep[c] += add[c];
+      yielding[p] = 1;
+    }
+  }
+
+  double rho_, nu_, E_, G_, lambda_, cohesion_;
+  MohrCoulombReturn return_;
+  suffuse::FieldId plastic_strain_ = 0, yielding_ = 0;
+};
+
+}  // namespace
+
+SUFFUSE_PLUGIN_LIBRARY(registry) {
+  registry.add<suffuse::Phase, MohrCoulomb>(
+      "phase/mohr_coulomb",
+      "Elastic-perfectly plastic Mohr-Coulomb with dilatancy and tension cut-off, exact return in principal stresses");
+}

@@ -1,0 +1,149 @@
+// Elastoplastic skeletons driven at one material point, against the closed
+// forms of physics.md section 5 (compression positive in the checks, tension
+// positive in the stored stress).
+#include <gtest/gtest.h>
+
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <suffuse/plugin_loader.hpp>
+#include <suffuse/tensor.hpp>
+#include <vector>
+
+#include "test_support.hpp"
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+struct OnePoint {
+  suffuse::Registry registry;
+  suffuse::PointSet points{3};
+  std::unique_ptr<suffuse::Phase> phase;
+
+  explicit OnePoint(const std::string& type, const nlohmann::json& params) {
+    suffuse::PluginLoader loader(registry);
+    loader.load_path(suffuse::PluginLoader::bundled_plugin_directory());
+    std::map<std::string, suffuse::ParamValue> values;
+    for (const auto& [k, v] : params.items()) values[k] = v.get<double>();
+    const suffuse::Parameters p = registry.find(type)->schema().complete(values);
+    phase = registry.create<suffuse::Phase>(type, {p, 3, "/materials/soil"});
+    phase->add_fields(points);
+    points.append(1);
+  }
+  double* stress() { return points.data(points.core().stress); }
+  // One increment of strain (tensor components, tension positive, no spin).
+  void strain(const std::array<double, 6>& de) {
+    double* L = points.data(points.core().velocity_gradient);
+    const int map[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) L[i * 3 + j] = de[map[i][j]];
+    phase->update_stress(suffuse::StressBatch{points, {0, 1}, 1.0, {}});
+  }
+  // Triaxial increment: axial (y) strain given, the lateral strains (x, z,
+  // equal) found so that the lateral stress stays at -cell (secant iteration).
+  void triaxial(double axial, double cell) {
+    std::array<double, 6> start;
+    std::copy(stress(), stress() + 6, start.begin());
+    auto lateral_residual = [&](double x) {
+      std::copy(start.begin(), start.end(), stress());
+      strain({x, axial, x, 0, 0, 0});
+      return stress()[0] + cell;
+    };
+    double x0 = 0, r0 = lateral_residual(x0);
+    double x1 = -r0 / (2e7), r1 = lateral_residual(x1);
+    for (int k = 0; k < 100 && std::abs(r1) > 1e-11 * cell; ++k) {
+      const double x2 = x1 - r1 * (x1 - x0) / (r1 - r0);
+      x0 = x1, r0 = r1, x1 = x2, r1 = lateral_residual(x1);
+    }
+    ASSERT_LE(std::abs(r1), 1e-9 * cell) << "lateral stress not held";
+  }
+};
+
+double mc_yield(const double* s, double phi, double c) {  // tension positive, sorted
+  Eigen::Matrix3d m;
+  const auto M = suffuse::tensor::to_matrix(s);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(i, j) = M[i][j];
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(m, Eigen::EigenvaluesOnly);
+  const double s1 = e.eigenvalues()(2), s3 = e.eigenvalues()(0);
+  return (s1 - s3) + (s1 + s3) * std::sin(phi) - 2 * c * std::cos(phi);
+}
+
+const nlohmann::json sand = {{"density", 2000.0}, {"youngs_modulus", 2e7}, {"poisson_ratio", 0.3},
+                             {"friction_angle", 30.0}, {"cohesion", 5e3}, {"dilatancy_angle", 10.0}};
+
+// Drained triaxial compression and extension at a cell pressure of 100 kPa:
+// the axial stress at failure is the closed form, within 1e-6 relative,
+// whatever the increment size; the stress never leaves the yield surface.
+TEST(MohrCoulomb, DrainedTriaxialFailsAtTheClosedForm) {
+  const double phi = 30 * pi / 180, c = 5e3, cell = 100e3, sp = std::sin(phi);
+  const double compression = cell * (1 + sp) / (1 - sp) + 2 * c * std::cos(phi) / (1 - sp);
+  const double extension = (cell * (1 - sp) - 2 * c * std::cos(phi)) / (1 + sp);
+  for (const double sign : {-1.0, 1.0}) {  // -1: axial compression (tension positive), +1: extension
+    std::vector<double> failure;
+    for (const int increments : {200, 2000}) {
+      OnePoint pt("phase/mohr_coulomb", sand);
+      for (int c3 = 0; c3 < 3; ++c3) pt.stress()[c3] = -cell;
+      const double total = 0.02;  // 2% axial strain: far beyond failure (elastic limit near 0.5%)
+      double worst = 0;
+      for (int k = 0; k < increments; ++k) {
+        pt.triaxial(sign * total / increments, cell);
+        worst = std::max(worst, mc_yield(pt.stress(), phi, c));
+      }
+      EXPECT_LT(worst, 1e-9 * cell) << "left the yield surface";
+      failure.push_back(-pt.stress()[1]);
+    }
+    const double exact = sign < 0 ? compression : extension;
+    for (double f : failure) EXPECT_NEAR(f / exact, 1.0, 1e-6) << (sign < 0 ? "compression" : "extension");
+    EXPECT_NEAR(failure[0] / failure[1], 1.0, 1e-9) << "independent of the increment size";
+    RecordProperty(sign < 0 ? "compression_failure_error" : "extension_failure_error",
+                   std::to_string(std::abs(failure[1] / exact - 1)));
+  }
+}
+
+// Beyond the apex (isotropic tension) the stress returns to c cot(phi); a
+// tension cut-off below it caps every principal stress instead.
+TEST(MohrCoulomb, ReturnsToTheApexAndToTheCutOff) {
+  const double phi = 30 * pi / 180, c = 5e3;
+  {
+    OnePoint pt("phase/mohr_coulomb", sand);
+    pt.strain({0.01, 0.01, 0.01, 0, 0, 0});
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(pt.stress()[i], c / std::tan(phi), 1e-6 * c) << i;
+    for (int i = 3; i < 6; ++i) EXPECT_NEAR(pt.stress()[i], 0.0, 1e-6 * c) << i;
+  }
+  {
+    auto params = sand;
+    params["tensile_strength"] = 1e3;
+    OnePoint pt("phase/mohr_coulomb", params);
+    for (int i = 0; i < 3; ++i) pt.stress()[i] = -50e3;
+    pt.strain({0.01, 0, 0, 0, 0, 0});  // uniaxial extension: sigma_xx capped at 1 kPa
+    EXPECT_NEAR(pt.stress()[0], 1e3, 1e-6);
+    EXPECT_LE(mc_yield(pt.stress(), phi, c), 1e-6);
+  }
+}
+
+// Random strain increments from random admissible states: every returned
+// stress is on or inside the yield surface, and an elastic increment is
+// left alone.
+TEST(MohrCoulomb, EveryReturnIsAdmissible) {
+  const double phi = 30 * pi / 180, c = 5e3;
+  OnePoint pt("phase/mohr_coulomb", sand);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 2e-3);
+  for (int i = 0; i < 3; ++i) pt.stress()[i] = -100e3;
+  int plastic = 0;
+  for (int k = 0; k < 20000; ++k) {
+    pt.strain({n(rng), n(rng), n(rng), n(rng), n(rng), n(rng)});
+    ASSERT_LE(mc_yield(pt.stress(), phi, c), 1e-8 * 100e3) << "increment " << k;
+    plastic += pt.points.data(pt.points.id("yielding"))[0] > 0;
+    if (k % 20 == 0)  // back to a confined isotropic state
+      for (int i = 0; i < 6; ++i) pt.stress()[i] = i < 3 ? -100e3 : 0.0;
+  }
+  EXPECT_GT(plastic, 5000) << "the test reached the yield surface";
+}
+
+}  // namespace
