@@ -104,11 +104,23 @@ TEST(CoupledPhase, StressFollowsTheStiffnessOnAHeldSkeleton) {
     const double Q = t < ramp ? q * t * t / (2 * ramp) : q * (t - ramp / 2);
     return (F0 - (F_inf + (F0 - F_inf) * std::exp(-(1 - fc_inf) * Q))) / (C + F0);
   };
-  double worst_stress = 0, worst_fraction = 0, reached = 0;
+  double worst_stress = 0, worst_fraction = 0, reached = 0, worst_increment = 0;
+  std::vector<double> n_before(pts.size()), f_before(pts.size()), fc_before(pts.size());
   while (sim.time() < end - 1e-9) {
+    const double* n = pts.data(pts.id("porosity"));
+    const double* fc = pts.data(pts.id("fines_content"));
+    for (std::size_t p = 0; p < pts.size(); ++p)
+      n_before[p] = n[p], f_before[p] = pts.data(pts.id("eroded_fraction"))[p], fc_before[p] = fc[p];
     sim.step();
     const double* s = pts.data(pts.core().stress);
     const double* fer = pts.data(pts.id("eroded_fraction"));
+    // The step's increments, as the phase saw them, are this step's changes.
+    const double* dn = pts.data(pts.id("porosity_increment"));
+    const double* dfer = pts.data(pts.id("eroded_fraction_increment"));
+    const double* dfc = pts.data(pts.id("fines_content_increment"));
+    for (std::size_t p = 0; p < pts.size(); ++p)
+      worst_increment = std::max({worst_increment, std::abs(dn[p] - (n[p] - n_before[p])),
+                                  std::abs(dfer[p] - (fer[p] - f_before[p])), std::abs(dfc[p] - (fc[p] - fc_before[p]))});
     for (std::size_t p = 0; p < pts.size(); ++p) {
       const double ratio = std::max(r, 1 - a * fer[p]);
       for (int c = 0; c < 6; ++c)
@@ -120,6 +132,7 @@ TEST(CoupledPhase, StressFollowsTheStiffnessOnAHeldSkeleton) {
   RecordProperty("worst_stress_error", sci(worst_stress));
   RecordProperty("worst_eroded_fraction_error", sci(worst_fraction));
   EXPECT_LT(worst_stress, 1e-12);
+  EXPECT_LT(worst_increment, 1e-15) << "porosity, eroded fraction and fines content increments of the step";
   EXPECT_LT(worst_fraction, 0.01 * eroded_fraction(end));
   EXPECT_GT(reached, (1 - r) / a) << "the residual stiffness was reached";
   const double* e = pts.data(pts.id("eigenstrain"));

@@ -134,8 +134,9 @@ TEST(TwoPhase, TractionFollowsTheSettlingSurface) {
   j["damping"] = 0.3;
   j["time"]["end"] = 0.6;
   const double s = 3e4, E = 1e6, H = 1.0;
-  j["boundary_conditions"][3]["traction"] = {0.0, -s};
-  j["boundary_conditions"][3]["ramp_time"] = 0.1;
+  auto& load = suffuse::test::boundary_condition(j, {{"type", "bc/traction"}});
+  load["traction"] = {0.0, -s};
+  load["ramp_time"] = 0.1;
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
@@ -479,6 +480,30 @@ TEST(TwoPhase, ClosedBoxConservesSolidAndLiquidMass) {
   }
   RecordProperty("liquid_mass_change", text(std::abs(end.liquid - start.liquid) / start.liquid));
   RecordProperty("largest_darcy_flux", text(q_max));
+}
+
+// Two conditions opening one face to the liquid would count its outflow
+// twice: the run is refused, naming both.
+TEST(TwoPhase, OneFaceOpenedTwiceIsRefusedNamingBoth) {
+  auto j = read_json(source_dir() / "share/scenes/upward_seepage.json");
+  j["outputs"] = nlohmann::json::array();
+  const nlohmann::json top = suffuse::test::boundary_condition(j, {{"type", "bc/pore_pressure"}, {"face", "bottom"}});
+  j["boundary_conditions"].push_back(top);
+  const std::size_t last = j["boundary_conditions"].size() - 1;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  try {
+    suffuse::Simulation sim(scene, registry);
+    ADD_FAILURE() << "accepted";
+  } catch (const suffuse::Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("/boundary_conditions/" + std::to_string(last)), std::string::npos) << what;
+    EXPECT_NE(what.find(suffuse::test::boundary_condition_pointer(
+                  read_json(source_dir() / "share/scenes/upward_seepage.json"), {{"type", "bc/pore_pressure"}, {"face", "bottom"}})),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("bottom face"), std::string::npos) << what;
+  }
 }
 
 }  // namespace

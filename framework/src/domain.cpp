@@ -19,7 +19,7 @@ Domain::Domain(const Scene& scene, const Registry& registry, int threads)
   nodes.resize(grid.node_count(), scene.dim, scene.saturated());
 }
 
-const BodyPoints& Domain::create_body(const BodySpec& body, double solid_density) {
+BodyPoints Domain::create_body(const BodySpec& body, double solid_density) {
   const int D = dim();
   std::array<std::size_t, 3> count{1, 1, 1};
   std::array<double, 3> spacing{1, 1, 1};

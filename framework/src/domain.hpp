@@ -42,7 +42,7 @@ class Domain {
 
   // Fills a body's box with points (position, size, velocity, volume, solid
   // mass, initial stress, material id); returns their range.
-  const BodyPoints& create_body(const BodySpec& body, double solid_density);
+  BodyPoints create_body(const BodySpec& body, double solid_density);
 
   // Stage "shape": shape functions at the points' positions. Throws, naming
   // the point and its body, if a point left the grid.

@@ -109,8 +109,9 @@ class Executor {
 };
 
 // Global reductions. Every total over the whole domain (the mass ledger, the
-// stable time step, the run summary) goes through one of these: in a later
-// MPI partition they become the sums and minima across processes.
+// total mass and momentum, the stable time step) goes through one of these:
+// in a later MPI partition they become the sums and minima across processes.
+// (The run summary's point count will need one too.)
 inline double global_sum(double local) { return local; }
 inline double global_min(double local) { return local; }
 

@@ -1,5 +1,7 @@
 #include "materials.hpp"
 
+#include <algorithm>
+
 namespace suffuse::detail {
 
 Materials::Materials(const Scene& scene, const Registry& registry) {
@@ -34,6 +36,7 @@ void Materials::update_stress(Domain& d, double dt) const {
       std::span<const double> eigenstrain;
       if (phase.writes_eigenstrain()) {
         const std::span<double> increment(points.data(*eigenstrain_increment_) + range.begin * 6, range.size() * 6);
+        std::fill(increment.begin(), increment.end(), 0.0);  // a point the phase skips gets none
         phase.eigenstrain(StressBatch{points, range, dt, {}}, increment);
         double* total = points.data(*eigenstrain_) + range.begin * 6;
         for (std::size_t k = 0; k < increment.size(); ++k) total[k] += increment[k];

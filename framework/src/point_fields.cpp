@@ -17,9 +17,13 @@ std::vector<ProvidedField> point_fields_of(const Scene& scene, const Registry& r
   std::vector<LiquidOpening> openings;
   for (const PluginNode& bc : scene.boundary_conditions) {
     if (!registry.find(bc.type)) continue;
-    for (const LiquidOpening& o :
-         registry.create<BoundaryCondition>(bc.type, {bc.params, scene.dim, bc.pointer})->liquid_openings())
-      openings.push_back(o);
+    try {
+      for (const LiquidOpening& o :
+           registry.create<BoundaryCondition>(bc.type, {bc.params, scene.dim, bc.pointer})->liquid_openings())
+        openings.push_back(o);
+    } catch (const std::exception&) {
+      // A condition that cannot be built says so, with its pointer, when the run builds it.
+    }
   }
   const bool fines = saturated && SpeciesTransport::tracks_fines(scene, openings);
   for (const auto& f : SpeciesTransport::fines_fields_declared())

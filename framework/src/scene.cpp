@@ -82,7 +82,10 @@ PluginNode SceneReader::plugin_node(const Json& node, const std::string& ptr, Pl
   result.type = type.get<std::string>();
   const PluginInfo* info = registry.find(result.type);
   if (!info) {
-    error(ptr + "/type", std::string(kUnknownPlugin), expected, "\"" + result.type + "\"", "core");
+    std::string problem = kUnknownPlugin;
+    // A library that failed to load is skipped in a directory scan: it may be the one.
+    for (const std::string& w : skipped_libraries) problem += "; skipped: " + w;
+    error(ptr + "/type", problem, expected, "\"" + result.type + "\"", "core");
     return result;
   }
   if (info->kind != kind) {
@@ -126,7 +129,14 @@ void check_required_fields(SceneReader& r, const Scene& scene) {
   for (const PluginNode* node : nodes) {
     const PluginInfo* info = r.registry.find(node->type);
     if (!info || !info->required_fields) continue;
-    for (const std::string& name : info->required_fields(node->params, r.dim)) {
+    std::vector<std::string> required;
+    try {
+      required = info->required_fields(node->params, r.dim);
+    } catch (const std::exception& e) {
+      r.error(node->pointer + "/type", std::string("the plugin's required_fields() failed: ") + e.what(), "", "",
+              node->type);
+    }
+    for (const std::string& name : required) {
       auto f = std::find_if(fields.begin(), fields.end(), [&](const auto& p) { return p.name == name; });
       if (f == fields.end())
         r.error(node->pointer + "/type", "reads point field '" + name + "', which no part of the core provides",
@@ -140,8 +150,10 @@ void check_required_fields(SceneReader& r, const Scene& scene) {
 
 }  // namespace
 
-Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier) {
+Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier,
+                 std::vector<std::string> skipped_libraries) {
   SceneReader r(root, registry, std::move(earlier));
+  r.skipped_libraries = std::move(skipped_libraries);
   Scene scene;
   if (!root.is_object()) {
     r.error("", "wrong type", "a JSON object", show(root), "core");
@@ -189,7 +201,7 @@ Scene parse_scene(const std::string& text, const std::string& name, const fs::pa
   }
   for (const auto& path : PluginLoader::default_search_path()) loader.load_path(path);
 
-  Scene scene = detail::read_scene(root, registry, name, std::move(path_errors));
+  Scene scene = detail::read_scene(root, registry, name, std::move(path_errors), loader.warnings());
   scene.name = fs::path(name).stem().string();
   return scene;
 }

@@ -32,6 +32,7 @@ class SceneReader {
   const Json& root;
   Registry& registry;
   std::vector<Diagnostic> diags;
+  std::vector<std::string> skipped_libraries;  // files of plugin directories that did not load, and why
   int dim = 0;           // 0 until /dimension is valid
   bool grid_ok = false;  // the grid is valid, so bodies can be checked against it
 };
@@ -61,7 +62,8 @@ SceneSection outputs_section();
 const std::vector<SceneSection>& scene_sections();
 
 // Reads and validates a whole scene; throws SceneError listing every problem.
-Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier);
+Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier,
+                 std::vector<std::string> skipped_libraries = {});
 
 // Shared by the sections.
 std::array<double, 3> to_array(const std::vector<double>& v);

@@ -67,7 +67,7 @@ Simulation::~Simulation() = default;
 void Simulation::create_bodies() {
   for (const BodySpec& body : scene_.bodies) {
     const Phase& phase = materials_->phase(body.material);
-    const detail::BodyPoints& b = domain_->create_body(body, phase.density());
+    const detail::BodyPoints b = domain_->create_body(body, phase.density());
     if (mixture_) mixture_->initialise(body, b);
     if (species_) species_->initialise(body, b);
     set_geostatic_stress(body, b.range.begin, b.range.end);

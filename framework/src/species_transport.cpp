@@ -102,20 +102,26 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
   const int dim = d_.dim();
   inflow_liquid_.assign(d_.grid.node_count() * dim, std::numeric_limits<double>::quiet_NaN());
   inflow_fines_ = inflow_liquid_;
-  for (const LiquidOpening& o : openings_of(bcs)) {
-    for (const Opening& other : openings_)
-      if (other.face.axis == o.face.axis && other.face.upper == o.face.upper)
-        throw Error("two boundary conditions open the same grid face to the liquid; its outflow would be counted "
-                    "twice: keep one bc/pore_pressure or bc/inflow_flux per face");
-    Opening opening{o.face, {}};
-    for (std::int64_t I : face_nodes(d_.grid, o.face)) {
-      opening.nodes.push_back({I, face_node_area(d_.grid, o.face, I)});
-      const std::size_t k = static_cast<std::size_t>(I) * dim + o.face.axis;
-      inflow_liquid_[k] = suspension_density(o.concentration, rho_s, rho_w);
-      inflow_fines_[k] = o.concentration * rho_s;
+  std::vector<std::string> opened_by;  // the JSON pointer of each opening's condition
+  for (std::size_t b = 0; b < bcs.size(); ++b) {
+    for (const LiquidOpening& o : bcs[b]->liquid_openings()) {
+      const std::string& pointer = scene.boundary_conditions[b].pointer;
+      for (std::size_t k = 0; k < openings_.size(); ++k)
+        if (openings_[k].face.axis == o.face.axis && openings_[k].face.upper == o.face.upper)
+          throw Error(pointer + " and " + opened_by[k] + " both open the " + discharge_[k].face +
+                      " face of the grid to the liquid; its outflow would be counted twice: keep one bc/pore_pressure "
+                      "or bc/inflow_flux per face");
+      opened_by.push_back(pointer);
+      Opening opening{o.face, {}};
+      for (std::int64_t I : face_nodes(d_.grid, o.face)) {
+        opening.nodes.push_back({I, face_node_area(d_.grid, o.face, I)});
+        const std::size_t k = static_cast<std::size_t>(I) * dim + o.face.axis;
+        inflow_liquid_[k] = suspension_density(o.concentration, rho_s, rho_w);
+        inflow_fines_[k] = o.concentration * rho_s;
+      }
+      discharge_.push_back({grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)], 0, 0, 0, 0});
+      openings_.push_back(std::move(opening));
     }
-    discharge_.push_back({grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)], 0, 0, 0, 0});
-    openings_.push_back(std::move(opening));
   }
   // Liquid leaving the body through a free surface inside the grid.
   discharge_.push_back({"free_surface", 0, 0, 0, 0});

@@ -13,8 +13,8 @@
 // state, and optionally an eigenstrain increment (an inelastic strain the
 // phase imposes, e.g. the compaction of an eroding skeleton). The core
 // records the eigenstrain (field "eigenstrain") and removes it from the strain
-// increment of the step before the stress update: strain_increment() below
-// (and StepIncrements) returns sym(L) dt minus the eigenstrain, so a base model wrapped by
+// increment of the step before the stress update: step_increment() and
+// StepIncrements below return sym(L) dt minus the eigenstrain, so a base model wrapped by
 // another phase responds to the elastic part only.
 #include <cstddef>
 #include <span>
@@ -37,7 +37,8 @@ struct PointRange {
 // "fines_content", "fines_content_increment", "eroded_fraction" (eroded
 // mass over initial solid mass, f_er) and "eroded_fraction_increment".
 // Increments are over the current step: deformation and erosion of this step
-// happen before the stress update.
+// happen before the stress update. The eroded fraction is net of deposition,
+// so it can be negative where a point gained more fines than it lost.
 namespace coupling {
 inline constexpr const char* porosity = "porosity";
 inline constexpr const char* porosity_increment = "porosity_increment";
@@ -123,10 +124,12 @@ class Phase {
   // initial stress and the saturated state).
   virtual void initialise(PointSet& points, PointRange range) const { (void)points; (void)range; }
 
-  // Optional: true if eigenstrain() writes an eigenstrain increment.
+  // Optional: true if eigenstrain() writes an eigenstrain increment. Read
+  // once, at set-up: it must not change during the run.
   virtual bool writes_eigenstrain() const { return false; }
   // Write the eigenstrain increment of this step for the batch, 6 per point
-  // (Voigt, tensor components, tension positive), before update_stress.
+  // (Voigt, tensor components, tension positive), before update_stress. The
+  // span arrives zeroed: a point the phase leaves alone gets none.
   virtual void eigenstrain(const StressBatch& batch, std::span<double> increment) const {
     (void)batch; (void)increment;
   }

@@ -38,7 +38,8 @@ namespace suffuse {
 // Every kind of plugin, in one list: interface class and the name used in
 // messages and docs. The enum, the names and the class-to-kind mapping below
 // are generated from it, so a new kind is one line here (and its interface
-// header above).
+// header above). Append new kinds at the end: the enum values are part of the
+// plugin ABI.
 #define SUFFUSE_PLUGIN_KINDS(X)                \
   X(ShapeFunction, "shape function")          \
   X(Phase, "phase")                           \

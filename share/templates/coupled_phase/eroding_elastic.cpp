@@ -80,14 +80,23 @@ class ErodingElastic final : public suffuse::Phase {
   }
 
   void update_stress(const suffuse::StressBatch& b) const override {
+    if (b.points.dim() == 2)
+      update<2>(b);
+    else
+      update<3>(b);
+  }
+
+ private:
+  template <int D>
+  void update(const suffuse::StressBatch& b) const {
     const double* f = b.points.data(eroded_);
     double* stress = b.points.data(b.points.core().stress);
+    // The strain increment of each point without the eigenstrain, and the spin.
+    const suffuse::StepIncrements<D> increments(b);
     for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
       const double E = stiffness(f[p]);
       const double G = E / (2 * (1 + nu_)), lambda = E * nu_ / ((1 + nu_) * (1 - 2 * nu_));
-      // The strain increment without the eigenstrain, and the spin.
-      // (suffuse::StepIncrements<D>, built once per batch, is the faster form for a loop.)
-      const auto [d, w] = suffuse::step_increment(b, p);
+      const auto [d, w] = increments(p);
       double* s6 = stress + p * 6;
       // Hooke's law with the Jaumann rate (a rigid rotation creates no stress).
       const suffuse::tensor::Matrix next =
@@ -96,8 +105,11 @@ class ErodingElastic final : public suffuse::Phase {
     }
   }
 
- private:
-  double stiffness(double eroded_fraction) const { return E0_ * std::max(r_, 1 - a_ * eroded_fraction); }
+  // Deposition can make the net eroded fraction negative: the skeleton never
+  // gets stiffer than E_0 (which also set the time step).
+  double stiffness(double eroded_fraction) const {
+    return E0_ * std::max(r_, 1 - a_ * std::max(0.0, eroded_fraction));
+  }
 
   double rho_, E0_, nu_, a_, r_;
   suffuse::FieldId eroded_ = 0, eroded_increment_ = 0;
