@@ -48,10 +48,13 @@ struct OnePoint {
   // Triaxial increment: axial (y) strain given, the lateral strains (x, z,
   // equal) found so that the lateral stress stays at -cell (secant iteration).
   void triaxial(double axial, double cell) {
-    std::array<double, 6> start;
-    std::copy(stress(), stress() + 6, start.begin());
+    // Every field (stress and the phase's state) as it was before the increment.
+    std::vector<std::vector<double>> start;
+    for (suffuse::FieldId f = 0; f < points.field_count(); ++f)
+      start.emplace_back(points.values(f).begin(), points.values(f).end());
     auto lateral_residual = [&](double x) {
-      std::copy(start.begin(), start.end(), stress());
+      for (suffuse::FieldId f = 0; f < points.field_count(); ++f)
+        std::copy(start[f].begin(), start[f].end(), points.values(f).begin());
       strain({x, axial, x, 0, 0, 0});
       return stress()[0] + cell;
     };
@@ -197,6 +200,80 @@ TEST(MohrCoulomb, ColumnCollapseComesToRest) {
   // At rest but for the rattling of points near the rough base (docs/soil-models.md).
   EXPECT_LT(kinetic, 0.01 * released) << "at rest: kinetic energy below 1% of the potential energy released";
   EXPECT_LT(worst, 1e-6) << "admissible stress";
+}
+
+}  // namespace
+
+namespace {
+
+const nlohmann::json clay = {{"density", 2700.0}, {"lambda", 0.2},           {"kappa", 0.05},
+                             {"critical_state_ratio", 1.0}, {"N", 3.0},      {"poisson_ratio", 0.3}};
+
+double field(OnePoint& pt, const char* name) { return pt.points.data(pt.points.id(name))[0]; }
+
+OnePoint normally_consolidated(double p0) {
+  OnePoint pt("phase/modified_cam_clay", clay);
+  for (int c = 0; c < 3; ++c) pt.stress()[c] = -p0;
+  pt.phase->initialise(pt.points, {0, 1});
+  return pt;
+}
+
+// Undrained (constant volume) triaxial compression of normally consolidated
+// clay: every increment on p'/p'_0 = [M^2/(M^2 + eta^2)]^Lambda, and the
+// critical state at q/p' = M, p' = p'_0 2^-Lambda, e on the critical-state line.
+TEST(ModifiedCamClay, UndrainedTriaxialFollowsTheClosedForm) {
+  const double p0 = 200e3, M = 1.0, Lambda = (0.2 - 0.05) / 0.2;
+  OnePoint pt = normally_consolidated(p0);
+  const double e0 = field(pt, "void_ratio");
+  double worst = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const double d = 1e-4;  // axial shortening; the lateral strains keep the volume
+    pt.strain({0.5 * d, -d, 0.5 * d, 0, 0, 0});
+    const double p = field(pt, "mean_effective_stress"), eta = field(pt, "stress_ratio");
+    worst = std::max(worst, std::abs(p / (p0 * std::pow(M * M / (M * M + eta * eta), Lambda)) - 1));
+  }
+  const double p = field(pt, "mean_effective_stress"), q = field(pt, "deviatoric_stress");
+  const double e = field(pt, "void_ratio");
+  const double Gamma = 3.0 - (0.2 - 0.05) * std::log(2.0);
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", worst);
+  RecordProperty("path_error", text);
+  EXPECT_LT(worst, 1e-3) << "relative to p'";
+  EXPECT_NEAR(q / p, M, 1e-4 * M);
+  EXPECT_NEAR(p / (p0 * std::pow(2.0, -Lambda)), 1.0, 1e-4);
+  EXPECT_DOUBLE_EQ(e, e0) << "undrained: the volume is constant";
+  EXPECT_NEAR(e, Gamma - 1 - 0.2 * std::log(p / 1e3), 1e-4) << "on the critical-state line";
+  EXPECT_NEAR(field(pt, "state_parameter"), 0.0, 1e-4);
+}
+
+// Drained triaxial compression at a constant cell pressure from normally
+// consolidated p'_0: critical state at p' = 3 p'_0 / (3 - M), e = e_cs.
+TEST(ModifiedCamClay, DrainedTriaxialReachesTheCriticalState) {
+  const double p0 = 200e3, M = 1.0;
+  OnePoint pt = normally_consolidated(p0);
+  for (int k = 0; k < 20000; ++k) pt.triaxial(-1e-4, p0);  // 200% axial strain: the approach is asymptotic
+  const double p = field(pt, "mean_effective_stress"), q = field(pt, "deviatoric_stress");
+  const double Gamma = 3.0 - (0.2 - 0.05) * std::log(2.0);
+  EXPECT_NEAR(q, 3 * (p - p0), 1e-6 * p) << "the drained path";
+  EXPECT_NEAR(p / (3 * p0 / (3 - M)), 1.0, 1e-3);
+  EXPECT_NEAR(field(pt, "void_ratio"), Gamma - 1 - 0.2 * std::log(p / 1e3), 1e-3);
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3g", std::abs(p / (3 * p0 / (3 - M)) - 1));
+  RecordProperty("critical_pressure_error", text);
+}
+
+// Isotropic compression: v falls by lambda per unit ln p' on the normal
+// compression line, by kappa on unloading.
+TEST(ModifiedCamClay, IsotropicCompressionFollowsLambdaAndKappa) {
+  OnePoint pt = normally_consolidated(100e3);
+  auto slope = [&](double d, int n) {
+    const double e1 = field(pt, "void_ratio"), p1 = field(pt, "mean_effective_stress");
+    for (int k = 0; k < n; ++k) pt.strain({d, d, d, 0, 0, 0});
+    return (field(pt, "void_ratio") - e1) / std::log(field(pt, "mean_effective_stress") / p1);
+  };
+  EXPECT_NEAR(slope(-1e-5, 3000), -0.2, 1e-3 * 0.2) << "loading: lambda";
+  EXPECT_NEAR(slope(1e-5, 300), -0.05, 1e-3 * 0.05) << "unloading: kappa";
+  EXPECT_NEAR(slope(-1e-5, 300), -0.05, 1e-3 * 0.05) << "reloading inside the surface: kappa";
 }
 
 }  // namespace

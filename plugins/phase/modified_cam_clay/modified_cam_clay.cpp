@@ -1,0 +1,231 @@
+// phase/modified_cam_clay: the critical-state model of Roscoe and Burland
+// (1968) with the void ratio as state, integrated implicitly (backward Euler,
+// Newton on the mean stress, the preconsolidation pressure and the plastic
+// multiplier, converging quadratically to 1e-12 relative).
+//
+// Compression positive in the model (p', q, eps_v, p_c), tension positive in
+// the stored stress, as everywhere in the core:
+//   yield          f = q^2 / M^2 + p' (p' - p_c) <= 0, associated flow
+//   elasticity     d eps_v^e = kappa d ln p' / v (exactly integrated over a
+//                  step), shear modulus from Poisson's ratio (G = 3 K (1 - 2 nu)
+//                  / (2 (1 + nu)), K = v p' / kappa at the start of the step)
+//                  or given, Jaumann rate for the deviator
+//   hardening      d ln p_c = v / (lambda - kappa) d eps_v^p
+//   lines          NCL v = N - lambda ln(p'/p_ref), CSL v = Gamma - lambda
+//                  ln(p'/p_ref), Gamma = N - (lambda - kappa) ln 2
+// v = 1 + e, the specific volume, follows the total volumetric strain.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <suffuse/error.hpp>
+#include <suffuse/plugin.hpp>
+#include <suffuse/tensor.hpp>
+
+namespace {
+
+class ModifiedCamClay final : public suffuse::Phase {
+ public:
+  static suffuse::ParameterSchema schema() {
+    suffuse::ParameterSchema s;
+    s.number("density").with_unit("kg/m^3").above(0).doc("Mass density (of the grains in a saturated body)");
+    s.number("lambda").with_unit("-").above(0).doc("Slope lambda of the normal compression line in v - ln p'");
+    s.number("kappa").with_unit("-").above(0).doc("Slope kappa of the unloading-reloading lines, below lambda");
+    s.number("critical_state_ratio").with_unit("-").above(0).doc("M, the stress ratio q/p' at critical state");
+    s.number("N").with_unit("-").above(1).may_be_absent().doc(
+        "Specific volume v = 1 + e on the normal compression line at p' = reference_pressure (or Gamma)");
+    s.number("Gamma").with_unit("-").above(1).may_be_absent().doc(
+        "Specific volume on the critical-state line at p' = reference_pressure (or N)");
+    s.number("reference_pressure").with_unit("Pa").above(0).fallback(1.0e3).doc(
+        "Pressure at which N and Gamma are given (1 kPa, as in most tables)");
+    s.number("poisson_ratio").with_unit("-").above(-1).below(0.5).fallback(0.3).doc(
+        "Poisson's ratio: the shear modulus follows the pressure-dependent bulk modulus");
+    s.number("shear_modulus").with_unit("Pa").above(0).may_be_absent().doc(
+        "Constant shear modulus G instead of Poisson's ratio");
+    s.number("overconsolidation_ratio").with_unit("-").at_least(1).fallback(1.0).doc(
+        "Initial p_c / p'_0, p'_0 each point's initial mean effective stress (or preconsolidation_pressure)");
+    s.number("preconsolidation_pressure").with_unit("Pa").above(0).may_be_absent().doc(
+        "Initial p_c, the same at every point, instead of the overconsolidation ratio");
+    s.number("minimum_mean_stress").with_unit("Pa").above(0).fallback(1.0e3).doc(
+        "Smallest p' the elasticity uses: a point starting without confinement starts at it (the model has "
+        "no strength at p' = 0)");
+    return s;
+  }
+
+  static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters& p, int) {
+    std::vector<suffuse::ParameterIssue> issues;
+    if (p.has("N") == p.has("Gamma"))
+      issues.push_back({"", "no unique position of the lines", "either \"N\" or \"Gamma\"",
+                        p.has("N") ? "both" : "neither"});
+    if (p.number("kappa") >= p.number("lambda"))
+      issues.push_back({"kappa", "kappa not below lambda", "kappa < lambda = " + std::to_string(p.number("lambda")),
+                        std::to_string(p.number("kappa"))});
+    if (p.has("preconsolidation_pressure") && p.number("overconsolidation_ratio") != 1.0)
+      issues.push_back({"preconsolidation_pressure", "two initial preconsolidations",
+                        "either preconsolidation_pressure or overconsolidation_ratio", "both"});
+    return issues;
+  }
+
+  explicit ModifiedCamClay(const suffuse::PluginArgs& a)
+      : rho_(a.params.number("density")),
+        lambda_(a.params.number("lambda")),
+        kappa_(a.params.number("kappa")),
+        M_(a.params.number("critical_state_ratio")),
+        p_ref_(a.params.number("reference_pressure")),
+        nu_(a.params.number("poisson_ratio")),
+        G_(a.params.has("shear_modulus") ? a.params.number("shear_modulus") : 0.0),
+        ocr_(a.params.number("overconsolidation_ratio")),
+        pc0_(a.params.has("preconsolidation_pressure") ? a.params.number("preconsolidation_pressure") : 0.0),
+        p_min_(a.params.number("minimum_mean_stress")),
+        where_(a.instance) {
+    N_ = a.params.has("N") ? a.params.number("N") : a.params.number("Gamma") + (lambda_ - kappa_) * std::log(2.0);
+  }
+
+  double density() const override { return rho_; }
+  // The stiffest initial state (initialise() records it): K = v p' / kappa
+  // grows with p', so a run that compresses the soil far beyond its initial
+  // state needs a smaller /time/dt or cfl than the automatic one.
+  double p_wave_modulus() const override {
+    const double K = std::max(stiffest_bulk_modulus_, 2 * p_min_ / kappa_);
+    return K + 4.0 / 3.0 * shear(K);
+  }
+
+  void add_fields(suffuse::PointSet& points) override {
+    using K = suffuse::FieldKind;
+    e_ = points.add_field({"void_ratio", K::Scalar, "-", "void ratio e", true});
+    pc_ = points.add_field({"preconsolidation_pressure", K::Scalar, "Pa", "p_c, compression positive", true});
+    p_ = points.add_field({"mean_effective_stress", K::Scalar, "Pa", "p', compression positive", true});
+    q_ = points.add_field({"deviatoric_stress", K::Scalar, "Pa", "q = sqrt(3 J2)", true});
+    eta_ = points.add_field({"stress_ratio", K::Scalar, "-", "eta = q / p'", true});
+    psi_ = points.add_field({"state_parameter", K::Scalar, "-", "psi = e - e_cs(p'): positive looser than critical", true});
+  }
+
+  void initialise(suffuse::PointSet& points, suffuse::PointRange range) const override {
+    const double* s = points.data(points.core().stress);
+    for (std::size_t p = range.begin; p < range.end; ++p) {
+      const double p0 = std::max(suffuse::tensor::mean_stress(s + p * 6), p_min_);
+      const double q0 = suffuse::tensor::deviatoric_stress(s + p * 6);
+      double pc = pc0_ > 0 ? pc0_ : ocr_ * p0;
+      pc = std::max(pc, p0 + q0 * q0 / (M_ * M_ * p0));  // on or inside the yield surface
+      // On the unloading line through (p_c, v_NCL(p_c)).
+      const double v = N_ - lambda_ * std::log(pc / p_ref_) + kappa_ * std::log(pc / p0);
+      points.data(e_)[p] = v - 1;
+      points.data(pc_)[p] = pc;
+      report(points, p, p0, q0, v);
+      stiffest_bulk_modulus_ = std::max(stiffest_bulk_modulus_, v * p0 / kappa_);
+    }
+  }
+
+  void update_stress(const suffuse::StressBatch& b) const override {
+    if (b.points.dim() == 2)
+      update<2>(b);
+    else
+      update<3>(b);
+  }
+
+ private:
+  double shear(double K) const { return G_ > 0 ? G_ : 1.5 * K * (1 - 2 * nu_) / (1 + nu_); }
+  double critical_v(double p) const { return N_ - (lambda_ - kappa_) * std::log(2.0) - lambda_ * std::log(p / p_ref_); }
+
+  void report(suffuse::PointSet& points, std::size_t i, double p, double q, double v) const {
+    points.data(p_)[i] = p;
+    points.data(q_)[i] = q;
+    points.data(eta_)[i] = q / p;
+    points.data(psi_)[i] = v - critical_v(p);
+  }
+
+  template <int D>
+  void update(const suffuse::StressBatch& b) const {
+    namespace t = suffuse::tensor;
+    suffuse::PointSet& pts = b.points;
+    double* stress = pts.data(pts.core().stress);
+    double* e = pts.data(e_);
+    double* pcs = pts.data(pc_);
+    const suffuse::StepIncrements<D> increments(b);
+    for (std::size_t i = b.range.begin; i < b.range.end; ++i) {
+      const auto [d, w] = increments(i);
+      double* s6 = stress + i * 6;
+      const double v_n = 1 + e[i], pc_n = pcs[i];
+      const double p_n = std::max(t::mean_stress(s6), p_min_);
+      const double K = v_n * p_n / kappa_, G = shear(K);
+      const double dev = -(d[0][0] + d[1][1] + d[2][2]);  // compression positive
+      // Elastic trial: the deviator by Hooke with the Jaumann rate, p' exactly on the unloading line.
+      const t::Matrix s_old = t::to_matrix(s6);
+      t::Matrix dev_trial = t::jaumann_elastic_increment(s_old, d, w, G, -2.0 * G / 3.0);  // tr part removed below
+      const double m = (dev_trial[0][0] + dev_trial[1][1] + dev_trial[2][2]) / 3;
+      for (int k = 0; k < 3; ++k) dev_trial[k][k] -= m;
+      const t::Voigt s_tr = t::to_voigt(dev_trial);
+      const double q_tr = std::sqrt(1.5 * t::double_contraction(s_tr.data(), s_tr.data()));
+      const double p_tr = p_n * std::exp(v_n * dev / kappa_);
+      double p = p_tr, pc = pc_n, q = q_tr;
+      if (q_tr * q_tr / (M_ * M_) + p_tr * (p_tr - pc_n) > 1e-12 * pc_n * pc_n)
+        return_map(p_n, pc_n, v_n, dev, q_tr, G, p, pc, q, i);
+      const double scale = q_tr > 0 ? q / q_tr : 0.0;
+      for (int c = 0; c < 6; ++c) s6[c] = scale * s_tr[c] - (c < 3 ? p : 0.0);
+      const double v = v_n * std::exp(-dev);
+      e[i] = v - 1;
+      pcs[i] = pc;
+      report(pts, i, p, q, v);
+    }
+  }
+
+  // Backward Euler on (p', p_c, dl): the elastic law, the hardening and the
+  // yield condition; Newton with the exact Jacobian, halved steps if an
+  // iterate leaves p', p_c > 0, dl >= 0.
+  void return_map(double p_n, double pc_n, double v, double dev, double q_tr, double G, double& p, double& pc,
+                  double& q, std::size_t point) const {
+    const double M2 = M_ * M_, a = v / kappa_, theta = v / (lambda_ - kappa_), c = 6 * G / M2;
+    double dl = 0;
+    auto residual = [&](double P, double Pc, double L, double r[3], double J[3][3]) {
+      const double h = 2 * P - Pc, A = p_n * std::exp(a * (dev - L * h)), B = pc_n * std::exp(theta * L * h);
+      const double Q = q_tr / (1 + c * L), dQ = -q_tr * c / ((1 + c * L) * (1 + c * L));
+      r[0] = P - A;
+      r[1] = Pc - B;
+      r[2] = Q * Q / M2 + P * (P - Pc);
+      J[0][0] = 1 + A * a * 2 * L, J[0][1] = -A * a * L, J[0][2] = A * a * h;
+      J[1][0] = -B * theta * 2 * L, J[1][1] = 1 + B * theta * L, J[1][2] = -B * theta * h;
+      J[2][0] = 2 * P - Pc, J[2][1] = -P, J[2][2] = 2 * Q * dQ / M2;
+    };
+    for (int iteration = 0; iteration < 60; ++iteration) {
+      double r[3], J[3][3];
+      residual(p, pc, dl, r, J);
+      if (std::abs(r[0]) <= 1e-12 * p && std::abs(r[1]) <= 1e-12 * pc && std::abs(r[2]) <= 1e-12 * pc * pc) {
+        q = q_tr / (1 + c * dl);
+        return;
+      }
+      // Solve J dx = -r (Cramer's rule: 3x3).
+      const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+      double dx[3];
+      for (int k = 0; k < 3; ++k) {
+        double Jk[3][3];
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) Jk[i][j] = j == k ? -r[i] : J[i][j];
+        dx[k] = (Jk[0][0] * (Jk[1][1] * Jk[2][2] - Jk[1][2] * Jk[2][1]) -
+                 Jk[0][1] * (Jk[1][0] * Jk[2][2] - Jk[1][2] * Jk[2][0]) +
+                 Jk[0][2] * (Jk[1][0] * Jk[2][1] - Jk[1][1] * Jk[2][0])) /
+                det;
+      }
+      double step = 1;
+      while (step > 1e-6 && (p + step * dx[0] <= 0 || pc + step * dx[1] <= 0 || dl + step * dx[2] < 0)) step /= 2;
+      p += step * dx[0], pc += step * dx[1], dl += step * dx[2];
+    }
+    throw suffuse::Error(where_ + " (phase/modified_cam_clay): the return mapping did not converge at material point " +
+                         std::to_string(point) + " (p' = " + std::to_string(p) + " Pa, p_c = " + std::to_string(pc) +
+                         " Pa); reduce the time step");
+  }
+
+  double rho_, lambda_, kappa_, M_, p_ref_, nu_, G_, ocr_, pc0_, p_min_, N_;
+  // Set-up only (initialise runs once per body, on one thread), for p_wave_modulus().
+  mutable double stiffest_bulk_modulus_ = 0;
+  std::string where_;
+  suffuse::FieldId e_ = 0, pc_ = 0, p_ = 0, q_ = 0, eta_ = 0, psi_ = 0;
+};
+
+}  // namespace
+
+SUFFUSE_PLUGIN_LIBRARY(registry) {
+  registry.add<suffuse::Phase, ModifiedCamClay>(
+      "phase/modified_cam_clay",
+      "Modified Cam-Clay critical-state skeleton with the void ratio as state, implicit return mapping");
+}
