@@ -13,9 +13,11 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <suffuse/element_test.hpp>
 #include <suffuse/error.hpp>
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/scene.hpp>
@@ -34,6 +36,9 @@ const char* usage =
     "  suffuse run SCENE.json [--output DIR] [--threads N] [--quiet]\n"
     "                         run a scene; outputs go to DIR (default ./output/<scene name>)\n"
     "  suffuse validate SCENE.json   check a scene against the plugin schemas, run nothing\n"
+    "  suffuse element SCENE.json [--output DIR] [--quiet]\n"
+    "                                drive one point of a phase along a test path (element test);\n"
+    "                                writes DIR/<scene>.element.csv (default ./output/<scene name>)\n"
     "  suffuse plugins               list the plugins found, with their libraries\n"
     "  suffuse describe NAME         print the parameters of a plugin (or a core section:\n"
     "                                scene, grid, time, body, output)\n"
@@ -227,6 +232,21 @@ void print_ledger(const suffuse::MassLedger& l, int dim, const std::string& name
             << "; imbalance " << std::setprecision(2) << l.solid_imbalance() << "\n";
 }
 
+int cmd_element(const fs::path& scene_file, const fs::path& output, bool quiet) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const suffuse::ElementScene scene = suffuse::load_element_scene(scene_file, registry, loader);
+  fs::create_directories(output);
+  const fs::path file = output / (scene.name + ".element.csv");
+  std::ofstream csv(file);
+  if (!csv) throw suffuse::Error("cannot write " + file.string());
+  if (!quiet) std::cout << "suffuse " << suffuse::framework_version << ": element test of " << scene.material.type
+                        << ", " << scene.stages.size() << " stage(s); rows in " << file.string() << "\n";
+  const int increments = suffuse::run_element_test(scene, registry, csv);
+  if (!quiet) std::cout << "done: " << increments << " increments\n";
+  return 0;
+}
+
 int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, bool quiet) {
 #ifndef SUFFUSE_HAVE_OPENMP
   if (threads != 1) throw suffuse::Error("--threads " + std::to_string(threads) + ": this build has no OpenMP");
@@ -341,6 +361,12 @@ int main(int argc, char** argv) {
       const fs::path out = vm.count("output") ? fs::path(vm["output"].as<std::string>())
                                               : fs::path("output") / fs::path(arg).stem();
       return cmd_run(arg, out, threads, vm.count("quiet") != 0);
+    }
+    if (command == "element") {
+      need_arg("an element-test scene file");
+      const fs::path out = vm.count("output") ? fs::path(vm["output"].as<std::string>())
+                                              : fs::path("output") / fs::path(arg).stem();
+      return cmd_element(arg, out, vm.count("quiet") != 0);
     }
     if (command == "validate") {
       need_arg("a scene file");

@@ -15,6 +15,8 @@
 
 #include <suffuse/simulation.hpp>
 
+#include <suffuse/element_test.hpp>
+
 #include "test_support.hpp"
 
 namespace {
@@ -249,6 +251,15 @@ TEST(EndToEnd, EveryExampleSceneRuns) {
     auto j = suffuse::test::read_json(entry.path());
     EXPECT_TRUE(j.contains("description") && j["description"].get<std::string>().size() > 80)
         << entry.path() << " needs a description of what it shows and how to read it";
+    if (j.contains("path")) {  // an element test (suffuse element)
+      suffuse::Registry registry;
+      suffuse::PluginLoader loader(registry);
+      const auto scene = suffuse::parse_element_scene(j.dump(), entry.path().string(), entry.path().parent_path(),
+                                                      registry, loader);
+      std::ostringstream csv;
+      EXPECT_GT(suffuse::run_element_test(scene, registry, csv), 0) << entry.path();
+      continue;
+    }
     j["outputs"] = nlohmann::json::array();
     suffuse::Registry registry;
     const suffuse::Scene scene = suffuse::test::scene_from(j, registry);

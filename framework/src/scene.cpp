@@ -150,6 +150,27 @@ void check_required_fields(SceneReader& r, const Scene& scene) {
 
 }  // namespace
 
+std::vector<Diagnostic> load_plugins_of(const Json& root, const fs::path& base_dir, PluginLoader& loader) {
+  std::vector<Diagnostic> path_errors;
+  if (root.is_object() && root.contains("plugin_paths") && root["plugin_paths"].is_array()) {
+    const Json& paths = root["plugin_paths"];
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+      if (!paths[i].is_string()) continue;  // reported by validation
+      fs::path path = paths[i].get<std::string>();
+      if (path.is_relative()) path = base_dir / path;
+      std::error_code ec;
+      if (!fs::exists(path, ec)) {
+        path_errors.push_back({"/plugin_paths/" + std::to_string(i), "no such file or directory",
+                               "a plugin library or a directory of them", path.string(), "core (scene)"});
+        continue;
+      }
+      loader.load_path(path);  // a library that exists but fails to load is fatal
+    }
+  }
+  for (const auto& path : PluginLoader::default_search_path()) loader.load_path(path);
+  return path_errors;
+}
+
 Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier,
                  std::vector<std::string> skipped_libraries) {
   SceneReader r(root, registry, std::move(earlier));
@@ -183,24 +204,7 @@ Scene parse_scene(const std::string& text, const std::string& name, const fs::pa
     throw SceneError(name, {{"", "not valid JSON", "a JSON object", e.what(), "core"}});
   }
   // Plugins first: their schemas are needed to validate the rest.
-  std::vector<Diagnostic> path_errors;
-  if (root.is_object() && root.contains("plugin_paths") && root["plugin_paths"].is_array()) {
-    const json& paths = root["plugin_paths"];
-    for (std::size_t i = 0; i < paths.size(); ++i) {
-      if (!paths[i].is_string()) continue;  // reported by validation
-      fs::path path = paths[i].get<std::string>();
-      if (path.is_relative()) path = base_dir / path;
-      std::error_code ec;
-      if (!fs::exists(path, ec)) {
-        path_errors.push_back({"/plugin_paths/" + std::to_string(i), "no such file or directory",
-                               "a plugin library or a directory of them", path.string(), "core (scene)"});
-        continue;
-      }
-      loader.load_path(path);  // a library that exists but fails to load is fatal
-    }
-  }
-  for (const auto& path : PluginLoader::default_search_path()) loader.load_path(path);
-
+  std::vector<Diagnostic> path_errors = detail::load_plugins_of(root, base_dir, loader);
   Scene scene = detail::read_scene(root, registry, name, std::move(path_errors), loader.warnings());
   scene.name = fs::path(name).stem().string();
   return scene;

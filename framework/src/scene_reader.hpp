@@ -61,6 +61,10 @@ SceneSection outputs_section();
 // bodies that name them.
 const std::vector<SceneSection>& scene_sections();
 
+// Loads the libraries of a scene's "plugin_paths" (relative to base_dir),
+// then the default search path; returns the paths that do not exist.
+std::vector<Diagnostic> load_plugins_of(const Json& root, const std::filesystem::path& base_dir, PluginLoader& loader);
+
 // Reads and validates a whole scene; throws SceneError listing every problem.
 Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier,
                  std::vector<std::string> skipped_libraries = {});
