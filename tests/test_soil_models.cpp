@@ -301,3 +301,34 @@ TEST(ModifiedCamClay, IsotropicCompressionFollowsLambdaAndKappa) {
 }
 
 }  // namespace
+
+namespace {
+
+// As the skeleton of a saturated mixture: Terzaghi's column with a
+// Mohr-Coulomb skeleton far from yield gives the pore pressures of the
+// linear elastic skeleton (the same elasticity), to round-off.
+TEST(MohrCoulomb, SkeletonOfASaturatedColumn) {
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/terzaghi.json");
+  j["outputs"] = nlohmann::json::array();
+  j["time"]["end"] = 0.05;
+  auto mc = j;
+  auto& m = mc["materials"]["soil"];
+  m["type"] = "phase/mohr_coulomb";
+  m["friction_angle"] = 30.0;
+  m["cohesion"] = 1e6;  // far from yield
+  suffuse::Registry r1, r2;
+  const suffuse::Scene s1 = suffuse::test::scene_from(j, r1), s2 = suffuse::test::scene_from(mc, r2);
+  suffuse::Simulation elastic(s1, r1), plastic(s2, r2);
+  elastic.run({});
+  plastic.run({});
+  const auto pressure = [](const suffuse::Simulation& sim) {
+    const auto& pts = sim.points();
+    return std::vector<double>(pts.values(pts.id("pore_pressure")).begin(), pts.values(pts.id("pore_pressure")).end());
+  };
+  const auto a = pressure(elastic), b = pressure(plastic);
+  EXPECT_LT(suffuse::test::max_relative_difference(a, b), 1e-12);
+  const auto& pts = plastic.points();
+  for (std::size_t p = 0; p < pts.size(); ++p) EXPECT_EQ(pts.data(pts.id("yielding"))[p], 0.0);
+}
+
+}  // namespace
