@@ -127,8 +127,14 @@ TEST(MohrCoulomb, ReturnsToTheApexAndToTheCutOff) {
     OnePoint pt("phase/mohr_coulomb", params);
     for (int i = 0; i < 3; ++i) pt.stress()[i] = -50e3;
     pt.strain({0.01, 0, 0, 0, 0, 0});  // uniaxial extension: sigma_xx capped at 1 kPa
-    EXPECT_NEAR(pt.stress()[0], 1e3, 1e-6);
-    EXPECT_LE(mc_yield(pt.stress(), phi, c), 1e-6);
+    // The trial (219.2, 65.4, 65.4) kPa returns to the corner of the cut-off
+    // and the extension edge: s1 = t, s2 = s3 = u on the cone,
+    // (t - u) + (t + u) sin(phi) = 2 c cos(phi).
+    const double t = 1e3, u = (t * (1 + std::sin(phi)) - 2 * c * std::cos(phi)) / (1 - std::sin(phi));
+    EXPECT_NEAR(pt.stress()[0], t, 1e-6);
+    EXPECT_NEAR(pt.stress()[1], u, 1e-6 * std::abs(u));
+    EXPECT_NEAR(pt.stress()[2], u, 1e-6 * std::abs(u));
+    EXPECT_NEAR(mc_yield(pt.stress(), phi, c), 0.0, 1e-6) << "on the cone, not inside it";
   }
 }
 
@@ -150,6 +156,37 @@ TEST(MohrCoulomb, EveryReturnIsAdmissible) {
       for (int i = 0; i < 6; ++i) pt.stress()[i] = i < 3 ? -100e3 : 0.0;
   }
   EXPECT_GT(plastic, 5000) << "the test reached the yield surface";
+}
+
+// The same with a tension cut-off of 1 kPa: every plastic return ends on the
+// boundary of the admissible set (the cone or the cut-off), inside neither.
+TEST(MohrCoulomb, ReturnsWithTheCutOffEndOnTheBoundary) {
+  const double phi = 30 * pi / 180, c = 5e3, t = 1e3;
+  auto params = sand;
+  params["tensile_strength"] = t;
+  OnePoint pt("phase/mohr_coulomb", params);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 2e-3);
+  int plastic = 0, on_cut_off = 0;
+  for (int k = 0; k < 20000; ++k) {
+    if (k % 20 == 0)
+      for (int i = 0; i < 6; ++i) pt.stress()[i] = i < 3 ? -20e3 : 0.0;
+    pt.strain({n(rng), n(rng), n(rng), n(rng), n(rng), n(rng)});
+    Eigen::Matrix3d m;
+    const auto M = suffuse::tensor::to_matrix(pt.stress());
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m(i, j) = M[i][j];
+    const double s1 = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()(2);
+    const double f = mc_yield(pt.stress(), phi, c);
+    ASSERT_LE(f, 1e-6) << "increment " << k;
+    ASSERT_LE(s1, t + 1e-6) << "increment " << k;
+    if (pt.points.data(pt.points.id("yielding"))[0] == 0) continue;
+    ++plastic;
+    on_cut_off += s1 > t - 1e-6;
+    ASSERT_GT(std::max(f, s1 - t), -1e-6) << "a plastic return ended inside, increment " << k;
+  }
+  EXPECT_GT(plastic, 5000);
+  EXPECT_GT(on_cut_off, 500) << "the cut-off was active";
 }
 
 }  // namespace
@@ -298,6 +335,17 @@ TEST(ModifiedCamClay, IsotropicCompressionFollowsLambdaAndKappa) {
   EXPECT_NEAR(slope(-1e-5, 3000), -0.2, 1e-3 * 0.2) << "loading: lambda";
   EXPECT_NEAR(slope(1e-5, 300), -0.05, 1e-3 * 0.05) << "unloading: kappa";
   EXPECT_NEAR(slope(-1e-5, 300), -0.05, 1e-3 * 0.05) << "reloading inside the surface: kappa";
+}
+
+// The lines are integrated exactly: one increment of 30% volumetric strain
+// leaves a normally consolidated sample on the normal compression line.
+TEST(ModifiedCamClay, OneLargeIncrementStaysOnTheNormalCompressionLine) {
+  OnePoint pt = normally_consolidated(100e3);
+  pt.strain({-0.1, -0.1, -0.1, 0, 0, 0});
+  const double p = field(pt, "mean_effective_stress"), e = field(pt, "void_ratio");
+  EXPECT_NEAR(e, 3.0 - 1 - 0.2 * std::log(p / 1e3), 1e-9);
+  EXPECT_NEAR(field(pt, "preconsolidation_pressure"), p, 1e-9 * p);
+  EXPECT_NEAR(std::log(1 + e), std::log(1 + 2.0 - 0.2 * std::log(100.0)) - 0.3, 1e-12) << "v follows the strain";
 }
 
 }  // namespace

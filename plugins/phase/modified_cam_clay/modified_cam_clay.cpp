@@ -6,11 +6,11 @@
 // Compression positive in the model (p', q, eps_v, p_c), tension positive in
 // the stored stress, as everywhere in the core:
 //   yield          f = q^2 / M^2 + p' (p' - p_c) <= 0, associated flow
-//   elasticity     d eps_v^e = kappa d ln p' / v (exactly integrated over a
-//                  step), shear modulus from Poisson's ratio (G = 3 K (1 - 2 nu)
-//                  / (2 (1 + nu)), K = v p' / kappa at the start of the step)
-//                  or given, Jaumann rate for the deviator
-//   hardening      d ln p_c = v / (lambda - kappa) d eps_v^p
+//   elasticity     -dv^e = kappa d ln p', shear modulus from Poisson's ratio
+//                  (G = 3 K (1 - 2 nu) / (2 (1 + nu)), K = v p' / kappa at the
+//                  start of the step) or given, Jaumann rate for the deviator
+//   hardening      -dv^p = (lambda - kappa) d ln p_c
+//   (both exact over a step in v, -dv = v_n (1 - exp(-d eps_v)))
 //   lines          NCL v = N - lambda ln(p'/p_ref), CSL v = Gamma - lambda
 //                  ln(p'/p_ref), Gamma = N - (lambda - kappa) ln 2
 // v = 1 + e, the specific volume, follows the total volumetric strain.
@@ -46,8 +46,8 @@ class ModifiedCamClay final : public suffuse::Phase {
     s.number("preconsolidation_pressure").with_unit("Pa").above(0).may_be_absent().doc(
         "Initial p_c, the same at every point, instead of the overconsolidation ratio");
     s.number("minimum_mean_stress").with_unit("Pa").above(0).fallback(1.0e3).doc(
-        "Smallest p' the elasticity uses: a point starting without confinement starts at it (the model has "
-        "no strength at p' = 0)");
+        "Smallest p': a point with less confinement, at the start or after unloading (a free surface), has the "
+        "isotropic part of its stress raised to it (the model has no stiffness or strength at p' = 0)");
     return s;
   }
 
@@ -100,9 +100,14 @@ class ModifiedCamClay final : public suffuse::Phase {
   }
 
   void initialise(suffuse::PointSet& points, suffuse::PointRange range) const override {
-    const double* s = points.data(points.core().stress);
+    double* s = points.data(points.core().stress);
     for (std::size_t p = range.begin; p < range.end; ++p) {
-      const double p0 = std::max(suffuse::tensor::mean_stress(s + p * 6), p_min_);
+      // A point with less confinement than the minimum starts at it: the
+      // isotropic part of its stress is raised, so stress and state agree.
+      const double raise = p_min_ - suffuse::tensor::mean_stress(s + p * 6);
+      if (raise > 0)
+        for (int c = 0; c < 3; ++c) s[p * 6 + c] -= raise;
+      const double p0 = suffuse::tensor::mean_stress(s + p * 6);
       const double q0 = suffuse::tensor::deviatoric_stress(s + p * 6);
       double pc = pc0_ > 0 ? pc0_ : ocr_ * p0;
       pc = std::max(pc, p0 + q0 * q0 / (M_ * M_ * p0));  // on or inside the yield surface
@@ -145,7 +150,13 @@ class ModifiedCamClay final : public suffuse::Phase {
       const auto [d, w] = increments(i);
       double* s6 = stress + i * 6;
       const double v_n = 1 + e[i], pc_n = pcs[i];
-      const double p_n = std::max(t::mean_stress(s6), p_min_);
+      // A point unloaded below the minimum mean stress (a free surface) is
+      // brought back to it, isotropically, in its stress too: the model has
+      // no stiffness at p' = 0.
+      const double raise = p_min_ - t::mean_stress(s6);
+      if (raise > 0)
+        for (int c = 0; c < 3; ++c) s6[c] -= raise;
+      const double p_n = t::mean_stress(s6);
       const double K = v_n * p_n / kappa_, G = shear(K);
       const double dev = -(d[0][0] + d[1][1] + d[2][2]);  // compression positive
       // Elastic trial: the deviator by Hooke with the Jaumann rate, p' exactly on the unloading line.
@@ -155,10 +166,12 @@ class ModifiedCamClay final : public suffuse::Phase {
       for (int k = 0; k < 3; ++k) dev_trial[k][k] -= m;
       const t::Voigt s_tr = t::to_voigt(dev_trial);
       const double q_tr = std::sqrt(1.5 * t::double_contraction(s_tr.data(), s_tr.data()));
-      const double p_tr = p_n * std::exp(v_n * dev / kappa_);
+      // -dv / v_n = 1 - exp(-d eps_v): the change of specific volume the lines are written in.
+      const double dv = 1 - std::exp(-dev);
+      const double p_tr = p_n * std::exp(v_n * dv / kappa_);
       double p = p_tr, pc = pc_n, q = q_tr;
       if (q_tr * q_tr / (M_ * M_) + p_tr * (p_tr - pc_n) > 1e-12 * pc_n * pc_n)
-        return_map(p_n, pc_n, v_n, dev, q_tr, G, p, pc, q, i);
+        return_map(p_n, pc_n, v_n, dv, q_tr, G, p, pc, q, i);
       const double scale = q_tr > 0 ? q / q_tr : 0.0;
       for (int c = 0; c < 6; ++c) s6[c] = scale * s_tr[c] - (c < 3 ? p : 0.0);
       const double v = v_n * std::exp(-dev);
@@ -170,7 +183,9 @@ class ModifiedCamClay final : public suffuse::Phase {
 
   // Backward Euler on (p', p_c, dl): the elastic law, the hardening and the
   // yield condition; Newton with the exact Jacobian, halved steps if an
-  // iterate leaves p', p_c > 0, dl >= 0.
+  // iterate leaves p', p_c > 0, dl >= 0. `dev` is -dv / v_n of the step; the
+  // plastic part of it is dl (2 p' - p_c), so v stays on the lines exactly:
+  // -dv = kappa d ln p' + (lambda - kappa) d ln p_c.
   void return_map(double p_n, double pc_n, double v, double dev, double q_tr, double G, double& p, double& pc,
                   double& q, std::size_t point) const {
     const double M2 = M_ * M_, a = v / kappa_, theta = v / (lambda_ - kappa_), c = 6 * G / M2;
@@ -208,6 +223,7 @@ class ModifiedCamClay final : public suffuse::Phase {
       }
       double step = 1;
       while (step > 1e-6 && (p + step * dx[0] <= 0 || pc + step * dx[1] <= 0 || dl + step * dx[2] < 0)) step /= 2;
+      if (p + step * dx[0] <= 0 || pc + step * dx[1] <= 0 || dl + step * dx[2] < 0) break;  // no admissible step
       p += step * dx[0], pc += step * dx[1], dl += step * dx[2];
     }
     throw suffuse::Error(where_ + " (phase/modified_cam_clay): the return mapping did not converge at material point " +

@@ -9,8 +9,11 @@
 // s1 >= s2 >= s3 (s1 the least compressive). The yield function is
 //   f = (s1 - s3) + (s1 + s3) sin(phi) - 2 c cos(phi) <= 0
 // and the plastic potential g the same with psi for phi. The apex, where
-// every edge meets, is the isotropic tension c cot(phi).
+// every edge meets, is the isotropic tension c cot(phi). With a tension
+// cut-off s_i <= t the return is an active set of the cone's planes and the
+// cut-off's (with_cut_off).
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -37,15 +40,14 @@ class MohrCoulombReturn {
 
   double yield(const Vec3& s) const { return dot(plane_.a, s) - k_; }
   bool admissible(const Vec3& s, double tol) const { return yield(s) <= tol && s[0] <= tension_ + tol; }
+  double tension() const { return tension_; }
 
   // The stress on the yield surface the trial stress returns to.
   Vec3 operator()(const Vec3& trial, double tol) const {
-    Vec3 s = trial;
-    if (yield(trial) > tol) s = mohr_coulomb(trial, tol);
-    if (s[0] > tension_ + tol) s = rankine(s);
-    return s;
+    const Vec3 s = yield(trial) > tol ? mohr_coulomb(trial, tol) : trial;
+    if (s[0] <= tension_ + tol) return s;  // the cone alone, or an elastic trial beyond the cut-off only
+    return with_cut_off(trial, tol);
   }
-
  private:
   struct Surface {
     Vec3 a, b;  // gradients of the yield function and of the plastic potential
@@ -83,25 +85,70 @@ class MohrCoulombReturn {
     return l1 >= 0 && l2 >= 0 && out[0] >= out[1] - tol && out[1] >= out[2] - tol;
   }
 
-  // Tension cut-off s_i <= t (Rankine, associated): the m largest principal
-  // stresses sit at t, with multipliers dl_i solving 2G dl_i + lambda L =
-  // trial_i - t (L their sum), the others below t. It only lowers f.
-  Vec3 rankine(const Vec3& trial) const {
-    for (int m = 1; m <= 3; ++m) {
-      double excess = 0;
-      for (int i = 0; i < m; ++i) excess += trial[i] - tension_;
-      const double L = excess / (2 * G_ + m * lambda_);
-      bool ok = true;
-      Vec3 s = trial;
-      for (int i = 0; i < 3; ++i) {
-        const double dl = i < m ? (trial[i] - tension_ - lambda_ * L) / (2 * G_) : 0.0;
-        ok = ok && dl >= 0;
-        s[i] = trial[i] - 2 * G_ * dl - lambda_ * L;
+  // With the tension cut-off (Rankine planes s_i <= t, associated): the
+  // active set among the cone's three planes (the main one and its two
+  // neighbours across the edges) and the three Rankine planes, by trying the
+  // sets of one to three surfaces in turn and keeping the first that meets
+  // the Kuhn-Tucker conditions (multipliers >= 0, every surface satisfied,
+  // the order kept). At most 41 small linear solves, only for the points
+  // the cut-off reaches.
+  Vec3 with_cut_off(const Vec3& trial, double tol) const {
+    const double t = tension_;
+    const Surface R1{{1, 0, 0}, {1, 0, 0}}, R2{{0, 1, 0}, {0, 1, 0}}, R3{{0, 0, 1}, {0, 0, 1}};
+    const Surface* all[6] = {&plane_, &extension_edge_, &compression_edge_, &R1, &R2, &R3};
+    const double limit[6] = {k_, k_, k_, t, t, t};
+    for (int size = 1; size <= 3; ++size) {
+      for (int mask = 1; mask < 64; ++mask) {
+        if (__builtin_popcount(mask) != size) continue;
+        int ids[3], n = 0;
+        for (int i = 0; i < 6; ++i)
+          if (mask & (1 << i)) ids[n++] = i;
+        // Solve sum_j (a_i . D b_j) dl_j = f_i(trial) for the active i.
+        double A[3][3] = {}, rhs[3] = {}, dl[3] = {};
+        Vec3 Db[3];
+        for (int j = 0; j < n; ++j) Db[j] = stiffness(all[ids[j]]->b);
+        for (int i = 0; i < n; ++i) {
+          rhs[i] = dot(all[ids[i]]->a, trial) - limit[ids[i]];
+          for (int j = 0; j < n; ++j) A[i][j] = dot(all[ids[i]]->a, Db[j]);
+        }
+        if (!solve(n, A, rhs, dl)) continue;
+        bool ok = true;
+        for (int j = 0; j < n; ++j) ok = ok && dl[j] >= 0;
+        if (!ok) continue;
+        Vec3 s = trial;
+        for (int j = 0; j < n; ++j)
+          for (int c = 0; c < 3; ++c) s[c] -= dl[j] * Db[j][c];
+        ok = s[0] >= s[1] - tol && s[1] >= s[2] - tol && yield(s) <= tol && s[0] <= t + tol;
+        if (ok) return s;
       }
-      for (int i = m; i < 3; ++i) ok = ok && s[i] <= tension_;
-      if (ok) return s;
     }
-    return {tension_, tension_, tension_};
+    return {t, t, t};  // not reached for psi <= phi; the most tensile admissible state
+  }
+
+  // Gaussian elimination with partial pivoting, n <= 3; false if singular.
+  static bool solve(int n, double A[3][3], double b[3], double x[3]) {
+    for (int c = 0; c < n; ++c) {
+      int pivot = c;
+      for (int r = c + 1; r < n; ++r)
+        if (std::abs(A[r][c]) > std::abs(A[pivot][c])) pivot = r;
+      if (std::abs(A[pivot][c]) < 1e-300) return false;
+      std::swap(A[c], A[pivot]);
+      std::swap(b[c], b[pivot]);
+      for (int r = c + 1; r < n; ++r) {
+        const double f = A[r][c] / A[c][c];
+        for (int k = c; k < n; ++k) A[r][k] -= f * A[c][k];
+        b[r] -= f * b[c];
+      }
+    }
+    for (int r = n - 1; r >= 0; --r) {
+      double v = b[r];
+      for (int k = r + 1; k < n; ++k) v -= A[r][k] * x[k];
+      x[r] = v / A[r][r];
+    }
+    // A nearly singular pair (two parallel planes) gives huge multipliers: not this set.
+    for (int r = 0; r < n; ++r)
+      if (!std::isfinite(x[r])) return false;
+    return true;
   }
 
   double G_, lambda_, sin_phi_, k_, tension_, apex_;
