@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <functional>
 #include <random>
+#include <sstream>
+#include <suffuse/element_test.hpp>
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/simulation.hpp>
 #include <suffuse/tensor.hpp>
@@ -45,27 +47,6 @@ struct OnePoint {
       for (int j = 0; j < 3; ++j) L[i * 3 + j] = de[map[i][j]];
     phase->update_stress(suffuse::StressBatch{points, {0, 1}, 1.0, {}});
   }
-  // Triaxial increment: axial (y) strain given, the lateral strains (x, z,
-  // equal) found so that the lateral stress stays at -cell (secant iteration).
-  void triaxial(double axial, double cell) {
-    // Every field (stress and the phase's state) as it was before the increment.
-    std::vector<std::vector<double>> start;
-    for (suffuse::FieldId f = 0; f < points.field_count(); ++f)
-      start.emplace_back(points.values(f).begin(), points.values(f).end());
-    auto lateral_residual = [&](double x) {
-      for (suffuse::FieldId f = 0; f < points.field_count(); ++f)
-        std::copy(start[f].begin(), start[f].end(), points.values(f).begin());
-      strain({x, axial, x, 0, 0, 0});
-      return stress()[0] + cell;
-    };
-    double x0 = 0, r0 = lateral_residual(x0);
-    double x1 = -r0 / (2e7), r1 = lateral_residual(x1);
-    for (int k = 0; k < 100 && std::abs(r1) > 1e-11 * cell; ++k) {
-      const double x2 = x1 - r1 * (x1 - x0) / (r1 - r0);
-      x0 = x1, r0 = r1, x1 = x2, r1 = lateral_residual(x1);
-    }
-    ASSERT_LE(std::abs(r1), 1e-9 * cell) << "lateral stress not held";
-  }
 };
 
 double mc_yield(const double* s, double phi, double c) {  // tension positive, sorted
@@ -78,6 +59,37 @@ double mc_yield(const double* s, double phi, double c) {  // tension positive, s
   return (s1 - s3) + (s1 + s3) * std::sin(phi) - 2 * c * std::cos(phi);
 }
 
+// The rows of an element test (suffuse element): one point of `material`
+// from the isotropic p'_0 along `path`, read back from its CSV.
+struct ElementRows {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  double at(std::size_t row, const std::string& name) const {
+    const auto k = std::find(header.begin(), header.end(), name) - header.begin();
+    return rows[row][k];
+  }
+};
+
+ElementRows element_test(const nlohmann::json& material, double p0, const nlohmann::json& path) {
+  const nlohmann::json j = {{"description", "test"}, {"material", material}, {"initial_pressure", p0}, {"path", path}};
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const auto scene = suffuse::parse_element_scene(j.dump(), "test.json", ".", registry, loader);
+  std::ostringstream csv;
+  suffuse::run_element_test(scene, registry, csv);
+  ElementRows out;
+  std::stringstream in(csv.str());
+  std::string line;
+  std::getline(in, line);
+  for (std::stringstream h(line); std::getline(h, line, ',');) out.header.push_back(line);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    for (std::stringstream r(line); std::getline(r, line, ',');) row.push_back(std::stod(line));
+    out.rows.push_back(row);
+  }
+  return out;
+}
+
 const nlohmann::json sand = {{"density", 2000.0}, {"youngs_modulus", 2e7}, {"poisson_ratio", 0.3},
                              {"friction_angle", 30.0}, {"cohesion", 5e3}, {"dilatancy_angle", 10.0}};
 
@@ -88,26 +100,33 @@ TEST(MohrCoulomb, DrainedTriaxialFailsAtTheClosedForm) {
   const double phi = 30 * pi / 180, c = 5e3, cell = 100e3, sp = std::sin(phi);
   const double compression = cell * (1 + sp) / (1 - sp) + 2 * c * std::cos(phi) / (1 - sp);
   const double extension = (cell * (1 - sp) - 2 * c * std::cos(phi)) / (1 + sp);
-  for (const double sign : {-1.0, 1.0}) {  // -1: axial compression (tension positive), +1: extension
+  auto material = sand;
+  material["type"] = "phase/mohr_coulomb";
+  for (const double sign : {1.0, -1.0}) {  // axial compression, extension (compression positive)
     std::vector<double> failure;
     for (const int increments : {200, 2000}) {
-      OnePoint pt("phase/mohr_coulomb", sand);
-      for (int c3 = 0; c3 < 3; ++c3) pt.stress()[c3] = -cell;
-      const double total = 0.02;  // 2% axial strain: far beyond failure (elastic limit near 0.5%)
-      double worst = 0;
-      for (int k = 0; k < increments; ++k) {
-        pt.triaxial(sign * total / increments, cell);
-        worst = std::max(worst, mc_yield(pt.stress(), phi, c));
+      // 2% axial strain: far beyond failure (the elastic limit is near 0.5%).
+      const ElementRows r = element_test(
+          material, cell, {{{"type", "drained_triaxial"}, {"strain", sign * 0.02}, {"increments", increments}}});
+      // Principal stresses, compression positive: the axial one and the cell pressure.
+      double worst = 0, axial = 0;
+      for (std::size_t k = 0; k < r.rows.size(); ++k) {
+        const double p = r.at(k, "p [Pa]"), q = r.at(k, "q [Pa]");
+        axial = sign > 0 ? p + 2 * q / 3 : p - 2 * q / 3;
+        const double lateral = sign > 0 ? p - q / 3 : p + q / 3;
+        EXPECT_NEAR(lateral, cell, 1e-8 * cell) << "the cell pressure is held, row " << k;
+        const double s1 = std::max(axial, lateral), s3 = std::min(axial, lateral);
+        worst = std::max(worst, (s1 - s3) - (s1 + s3) * sp - 2 * c * std::cos(phi));
       }
       EXPECT_LT(worst, 1e-9 * cell) << "left the yield surface";
-      failure.push_back(-pt.stress()[1]);
+      failure.push_back(axial);
     }
-    const double exact = sign < 0 ? compression : extension;
-    for (double f : failure) EXPECT_NEAR(f / exact, 1.0, 1e-6) << (sign < 0 ? "compression" : "extension");
+    const double exact = sign > 0 ? compression : extension;
+    for (double f : failure) EXPECT_NEAR(f / exact, 1.0, 1e-6) << (sign > 0 ? "compression" : "extension");
     EXPECT_NEAR(failure[0] / failure[1], 1.0, 1e-9) << "independent of the increment size";
     char text[32];
     std::snprintf(text, sizeof text, "%.3g", std::abs(failure[1] / exact - 1));
-    RecordProperty(sign < 0 ? "compression_failure_error" : "extension_failure_error", text);
+    RecordProperty(sign > 0 ? "compression_failure_error" : "extension_failure_error", text);
   }
 }
 
@@ -311,13 +330,17 @@ TEST(ModifiedCamClay, UndrainedTriaxialFollowsTheClosedForm) {
 // consolidated p'_0: critical state at p' = 3 p'_0 / (3 - M), e = e_cs.
 TEST(ModifiedCamClay, DrainedTriaxialReachesTheCriticalState) {
   const double p0 = 200e3, M = 1.0;
-  OnePoint pt = normally_consolidated(p0);
-  for (int k = 0; k < 20000; ++k) pt.triaxial(-1e-4, p0);  // 200% axial strain: the approach is asymptotic
-  const double p = field(pt, "mean_effective_stress"), q = field(pt, "deviatoric_stress");
+  auto material = clay;
+  material["type"] = "phase/modified_cam_clay";
+  // 200% axial strain: the approach to the critical state is asymptotic.
+  const ElementRows r =
+      element_test(material, p0, {{{"type", "drained_triaxial"}, {"strain", 2.0}, {"increments", 20000}}});
+  const std::size_t end = r.rows.size() - 1;
+  const double p = r.at(end, "p [Pa]"), q = r.at(end, "q [Pa]");
   const double Gamma = 3.0 - (0.2 - 0.05) * std::log(2.0);
   EXPECT_NEAR(q, 3 * (p - p0), 1e-6 * p) << "the drained path";
   EXPECT_NEAR(p / (3 * p0 / (3 - M)), 1.0, 1e-3);
-  EXPECT_NEAR(field(pt, "void_ratio"), Gamma - 1 - 0.2 * std::log(p / 1e3), 1e-3);
+  EXPECT_NEAR(r.at(end, "void_ratio [-]"), Gamma - 1 - 0.2 * std::log(p / 1e3), 1e-3);
   char text[64];
   std::snprintf(text, sizeof text, "%.3g", std::abs(p / (3 * p0 / (3 - M)) - 1));
   RecordProperty("critical_pressure_error", text);

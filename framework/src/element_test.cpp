@@ -189,7 +189,7 @@ void write_row(std::ostream& csv, int increment, int stage, const Sample& s, con
 int run_element_test(const ElementScene& scene, const Registry& registry, std::ostream& csv) {
   Sample sample(scene, registry);
   const std::vector<FieldId> fields = sample.reported_fields();
-  csv.precision(12);
+  csv.precision(17);  // round-trips a double
   csv << "increment,stage,eps_v [-],eps_s [-],p [Pa],q [Pa],eta [-]";
   for (FieldId f : fields) csv << ',' << sample.points().info(f).name << " [" << sample.points().info(f).unit << ']';
   csv << '\n';

@@ -40,7 +40,6 @@ class MohrCoulombReturn {
 
   double yield(const Vec3& s) const { return dot(plane_.a, s) - k_; }
   bool admissible(const Vec3& s, double tol) const { return yield(s) <= tol && s[0] <= tension_ + tol; }
-  double tension() const { return tension_; }
 
   // The stress on the yield surface the trial stress returns to.
   Vec3 operator()(const Vec3& trial, double tol) const {
