@@ -8,6 +8,7 @@
 // core's tension-positive stress.
 #include <filesystem>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,12 +18,26 @@
 
 namespace suffuse {
 
-enum class ElementPath { isotropic, oedometer, drained_triaxial, undrained_triaxial };
+enum class ElementPath { isotropic, oedometer, drained_triaxial, undrained_triaxial, stress_controlled };
+
+// A field the phase reads (a coupling field such as the eroded fraction),
+// ramped linearly over a stage from its value at the stage's start to
+// `end_value`. Its "_increment" field, if the phase reads it, gets the
+// change of each increment.
+struct ElementInput {
+  std::string field;
+  double end_value;
+};
 
 struct ElementStage {
   ElementPath path;
-  double strain;   // volumetric (isotropic) or axial strain of the stage, compression positive [-]
-  int increments;
+  double strain = 0;  // volumetric (isotropic) or axial strain of the stage, compression positive [-]
+  int increments = 1;
+  // stress_controlled: p' and q at the stage's end, reached linearly in
+  // equal increments (compression positive) [Pa]; absent: held at the
+  // stage's start (a hold).
+  std::optional<double> p, q;
+  std::vector<ElementInput> inputs;
 };
 
 struct ElementScene {
@@ -40,9 +55,10 @@ ElementScene parse_element_scene(const std::string& text, const std::string& nam
 
 // Runs the stages, writing one CSV row per increment (and the initial state)
 // to `csv`, flushed as it goes: a path that cannot be followed (the lateral
-// stress of a drained triaxial stage cannot be held, a value turns
-// non-finite) throws Error naming the stage and the increment, and the rows
-// written so far stay readable. Returns the number of increments run.
+// stress of a drained triaxial stage or the stress of a stress-controlled
+// stage cannot be held, a value turns non-finite) throws Error naming the
+// stage and the increment and saying "failure", and the rows written so far
+// stay readable. Returns the number of increments run.
 int run_element_test(const ElementScene& scene, const Registry& registry, std::ostream& csv);
 
 // Schema of the element-test scene and of one stage, for `suffuse describe`.
