@@ -179,12 +179,12 @@ int cmd_reference() {
                "the plugin's schema and an unknown key is an error.\n\n"
                "A scene is one JSON object:\n\n"
                "```\n"
-               "{ description, dimension, plugin_paths, gravity, damping,\n"
+               "{ description, dimension, plugin_paths, gravity, damping, volumetric_strain,\n"
                "  grid: {...}, time: {...},\n"
                "  shape_function: { type: \"shape/...\", ... },\n"
                "  materials: { NAME: { type: \"phase/...\", ... }, ... },\n"
                "  bodies: [ { material: NAME, min, max, ... }, ... ],\n"
-               "  boundary_conditions: [ { type: \"bc/...\", ... }, ... ],\n"
+               "  boundary_conditions: [ { type: \"bc/...\", reaction, ... }, ... ],\n"
                "  outputs: [ { type: \"writer/...\", interval, ... }, ... ] }\n"
                "```\n\n## Core sections\n\n";
   for (const auto& s : suffuse::core_sections())

@@ -14,8 +14,15 @@ Domain::Domain(const Scene& scene, const Registry& registry, int threads)
       points(scene.dim),
       exec(threads),
       shape_function_(registry.create<ShapeFunction>(
-          scene.shape_function.type, {scene.shape_function.params, scene.dim, scene.shape_function.pointer})) {
+          scene.shape_function.type, {scene.shape_function.params, scene.dim, scene.shape_function.pointer})),
+      average_volumetric_rate_(scene.volumetric_strain == VolumetricStrain::cell_average) {
   shape.npp = shape_function_->nodes_per_point(scene.dim);
+  if (average_volumetric_rate_) {
+    std::size_t cells = 1;
+    for (int a = 0; a < scene.dim; ++a) cells *= static_cast<std::size_t>(scene.grid_cells[a]);
+    cell_volume_.resize(cells);
+    cell_rate_.resize(cells);
+  }
   nodes.resize(grid.node_count(), scene.dim, scene.saturated());
 }
 
@@ -76,6 +83,7 @@ void Domain::locate_points(std::size_t step, double time) {
                 std::to_string(step) + " (t = " + std::to_string(time) + " s): position (" + pos.str() +
                 "); enlarge /grid or check the boundary conditions and the time step");
   }
+  if (average_volumetric_rate_) locate_cells();
   const int npp = shape.npp;
   shape.ids.resize(n * npp);
   shape.weights.resize(n * npp);
@@ -90,12 +98,54 @@ void Domain::locate_points(std::size_t step, double time) {
   });
 }
 
+void Domain::locate_cells() {
+  const int D = dim();
+  const std::size_t n = points.size();
+  const double* x = points.data(points.core().position);
+  point_cell_.resize(n);
+  exec.for_chunks(n, [&](int, std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      std::int64_t cell = 0, stride = 1;
+      for (int a = 0; a < D; ++a) {
+        const int i = static_cast<int>(std::floor((x[p * D + a] - grid.origin()[a]) / grid.cell_size()[a]));
+        cell += stride * std::clamp(i, 0, grid.cells()[a] - 1);
+        stride *= grid.cells()[a];
+      }
+      point_cell_[p] = cell;
+    }
+  });
+}
+
 void Domain::update_kinematics(double dt) {
   const auto& f = points.core();
-  auto kernel = dim() == 2 ? &velocity_gradient_kernel<2> : &velocity_gradient_kernel<3>;
+  double* L = points.data(f.velocity_gradient);
+  if (!average_volumetric_rate_) {
+    auto kernel = dim() == 2 ? &velocity_gradient_kernel<2> : &velocity_gradient_kernel<3>;
+    exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
+      kernel(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(), L,
+             points.data(f.strain), points.data(f.volume));
+    });
+    return;
+  }
+  auto gradient = dim() == 2 ? &velocity_gradient_kernel<2, false> : &velocity_gradient_kernel<3, false>;
   exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
-    kernel(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(),
-           points.data(f.velocity_gradient), points.data(f.strain), points.data(f.volume));
+    gradient(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(), L, nullptr,
+             nullptr);
+  });
+  std::fill(cell_volume_.begin(), cell_volume_.end(), 0.0);
+  std::fill(cell_rate_.begin(), cell_rate_.end(), 0.0);
+  ScatterTargets targets;
+  targets.add(cell_volume_);
+  targets.add(cell_rate_);
+  auto sum = dim() == 2 ? &cell_volumetric_rate_kernel<2> : &cell_volumetric_rate_kernel<3>;
+  exec.scatter(points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
+    sum(b, e, point_cell_.data(), L, points.data(f.volume), out[0], out[1]);
+  });
+  auto replace = dim() == 2 ? &replace_volumetric_rate_kernel<2> : &replace_volumetric_rate_kernel<3>;
+  auto integrate = dim() == 2 ? &strain_volume_kernel<2> : &strain_volume_kernel<3>;
+  exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
+    replace(b, e, point_cell_.data(), cell_volume_.data(), cell_rate_.data(), L);
+    integrate(b, e, dt, L, points.data(f.strain), points.data(f.volume));
   });
 }
 

@@ -47,8 +47,9 @@ class Domain {
   // Stage "shape": shape functions at the points' positions. Throws, naming
   // the point and its body, if a point left the grid.
   void locate_points(std::size_t step, double time);
-  // Stage "strain": velocity gradient L from the remapped nodal velocities,
-  // strain += sym(L) dt, volume *= det(I + L dt).
+  // Stage "strain": velocity gradient L from the remapped nodal velocities
+  // (its trace averaged over each cell's points where the scene asks for
+  // it), strain += sym(L) dt, volume *= det(I + L dt).
   void update_kinematics(double dt);
 
   GridGeometry grid;
@@ -59,7 +60,15 @@ class Domain {
   std::vector<BodyPoints> bodies;
 
  private:
+  void locate_cells();  // the cell of every point, at the start of the step
+
   std::unique_ptr<ShapeFunction> shape_function_;
+  // /volumetric_strain "cell_average": each point's volumetric strain rate is
+  // the volume-weighted mean of its cell's (B-bar-like; removes the locking
+  // of isochoric plastic flow on low-order shape functions).
+  bool average_volumetric_rate_;
+  std::vector<std::int64_t> point_cell_;
+  std::vector<double> cell_volume_, cell_rate_;
 };
 
 }  // namespace suffuse::detail

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "domain.hpp"
+#include "reactions.hpp"
 #include "saturated_mixture.hpp"
 #include "species_transport.hpp"
 #include "stage_timer.hpp"
@@ -61,18 +62,28 @@ RunSummary Simulation::run(const RunOptions& options) {
     writers_[w]->open(options.output_dir,
                       writers_.size() == 1 ? scene_.name : scene_.name + "_" + std::to_string(w));
   }
-  // Saturated runs: the mass ledger, a row every end/200 s, flushed so that a
-  // run that fails midway leaves the rows written so far.
-  std::ofstream ledger;
+  // Saturated runs: the mass ledger; scenes that ask for reactions: their
+  // CSV. A row every end/200 s, flushed so that a run that fails midway
+  // leaves the rows written so far.
+  auto open_csv = [&](std::ofstream& csv, const std::string& suffix) {
+    std::filesystem::create_directories(options.output_dir);
+    const auto file = options.output_dir / (scene_.name + suffix);
+    csv.open(file);
+    if (!csv) throw Error("cannot write " + file.string());
+    csv.precision(10);
+  };
+  std::ofstream ledger, reactions;
   const double ledger_interval = end / 200;
   double next_ledger = ledger_interval;
   if (species_ && !options.output_dir.empty()) {
-    std::filesystem::create_directories(options.output_dir);
-    const auto file = options.output_dir / (scene_.name + ".ledger.csv");
-    ledger.open(file);
-    if (!ledger) throw Error("cannot write " + file.string());
+    open_csv(ledger, ".ledger.csv");
     species_->write_ledger_row(ledger, clock_.time(), true);
     ledger.flush();
+  }
+  if (!reactions_->empty() && !options.output_dir.empty()) {
+    open_csv(reactions, ".reactions.csv");
+    reactions_->write_header(reactions);
+    reactions.flush();
   }
   auto write = [&](std::size_t w) {
     detail::StageTimer timer(times_, Stage::output);
@@ -97,9 +108,15 @@ RunSummary Simulation::run(const RunOptions& options) {
         next[w] = (std::floor((now + eps) / interval[w]) + 1) * interval[w];
       }
     }
-    if (ledger.is_open() && (now >= next_ledger - eps || now >= end)) {
-      species_->write_ledger_row(ledger, now, false);
-      ledger.flush();
+    if (now >= next_ledger - eps || now >= end) {
+      if (ledger.is_open()) {
+        species_->write_ledger_row(ledger, now, false);
+        ledger.flush();
+      }
+      if (reactions.is_open()) {
+        reactions_->write_row(reactions, now);
+        reactions.flush();
+      }
       next_ledger = (std::floor((now + eps) / ledger_interval) + 1) * ledger_interval;
     }
     if (options.on_step) {

@@ -1,4 +1,4 @@
-// The top level of a scene: dimension, gravity, damping, plugin paths.
+// The top level of a scene: dimension, gravity, damping, volumetric strain, plugin paths.
 #include "scene_reader.hpp"
 
 namespace suffuse::detail {
@@ -26,7 +26,11 @@ ParameterSchema top_level_schema() {
       "Gravitational acceleration, one component per dimension (default zero)");
   s.number("damping").at_least(0).below(1).with_unit("-").fallback(0.0).doc(
       "Local non-viscous damping coefficient for quasi-static problems (0: none)");
-  
+  s.choice("volumetric_strain", {"point", "cell_average"}).fallback(std::string("point")).doc(
+      "point: each point's volumetric strain rate from its own velocity gradient; cell_average: the "
+      "volume-weighted mean over the points of its cell, the deviatoric part kept (removes the volumetric locking "
+      "of nearly incompressible or isochoric plastic flow, e.g. undrained clay or Tresca, on linear shape "
+      "functions; a B-bar method)");
   return s;
 }
 
@@ -41,6 +45,8 @@ void read_top_level(SceneReader& r, Scene& scene) {
   // A value that failed validation is absent: read only what is there.
   if (top.has("description")) scene.description = top.string("description");
   if (top.has("damping")) scene.damping = top.number("damping");
+  if (top.has("volumetric_strain") && top.string("volumetric_strain") == "cell_average")
+    scene.volumetric_strain = VolumetricStrain::cell_average;
   if (r.dim && top.has("gravity")) {
     check_gravity_length(r);
     scene.gravity = to_array(top.vector("gravity"));

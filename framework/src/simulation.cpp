@@ -7,6 +7,7 @@
 #include "domain.hpp"
 #include "dry_momentum.hpp"
 #include "materials.hpp"
+#include "reactions.hpp"
 #include "saturated_mixture.hpp"
 #include "species_transport.hpp"
 #include "stage_timer.hpp"
@@ -39,7 +40,8 @@ void SimulationClock::advance() {
 Simulation::Simulation(const Scene& scene, const Registry& registry, int threads)
     : scene_(scene),
       domain_(std::make_unique<detail::Domain>(scene, registry, threads)),
-      materials_(std::make_unique<detail::Materials>(scene, registry)) {
+      materials_(std::make_unique<detail::Materials>(scene, registry)),
+      reactions_(std::make_unique<detail::Reactions>(scene.reactions, scene.dim, scene.damping)) {
   const int dim = scene.dim;
   for (const PluginNode& bc : scene.boundary_conditions) {
     bcs_.push_back(registry.create<BoundaryCondition>(bc.type, {bc.params, dim, bc.pointer}));
@@ -126,6 +128,11 @@ void Simulation::constrain_velocity(double time) {
   for (const auto& bc : bcs_) bc->constrain_velocity(domain_->grid, domain_->nodes, time);
 }
 
+void Simulation::constrain_velocity_recording_reactions(double time, double dt) {
+  for (std::size_t b = 0; b < bcs_.size(); ++b)
+    reactions_->constrain(b, *bcs_[b], domain_->grid, domain_->nodes, time, dt);
+}
+
 // The MUSL step. Every stage is one call; the parts hold what differs
 // between dry and saturated runs.
 void Simulation::step() {
@@ -137,7 +144,7 @@ void Simulation::step() {
   timed(Stage::grid, [&] {
     apply_loads(t);
     momentum_->integrate_grid(dt);                              // nodal velocities at t + dt
-    constrain_velocity(t + dt);
+    constrain_velocity_recording_reactions(t + dt, dt);
     momentum_->accelerations(dt);
   });
   timed(Stage::g2p, [&] { momentum_->grid_to_points(dt); });    // point velocities and positions

@@ -31,6 +31,14 @@ inline double damped(double force, double velocity, double damping) {
   return force;
 }
 
+// The force before damped(): damping < 1 keeps the sign of the force, so
+// f_d = f (1 - damping sign(f) sign(v)) is inverted exactly.
+inline double undamped(double damped_force, double velocity, double damping) {
+  if (damping > 0 && velocity != 0)
+    damped_force /= 1 - damping * (damped_force > 0 ? 1.0 : -1.0) * (velocity > 0 ? 1.0 : -1.0);
+  return damped_force;
+}
+
 template <int D>
 void p2g_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w, const double* dw,
                 const double* mass, const double* volume, const double* vel, const double* stress,
@@ -140,7 +148,11 @@ void velocity_from_momentum(std::size_t begin, std::size_t end, const double* ma
   }
 }
 
-template <int D>
+// The velocity gradient of each point from the nodal velocities, L =
+// sum_I v_I (grad N_I)^T. Integrate: also strain += sym(L) dt and
+// volume *= det(I + L dt) in the same pass (strain_volume_kernel does it
+// after a change of L).
+template <int D, bool Integrate = true>
 void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
                               const double* dw, const double* node_vel, double* L, double* strain, double* volume) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -152,13 +164,55 @@ void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, doubl
         for (int j = 0; j < D; ++j) l[i][j] += node_vel[I * D + i] * dw[k * D + j];
     }
     double* Lp = L + p * D * D;
-    double* e = strain + p * 6;
     for (int i = 0; i < D; ++i)
       for (int j = 0; j < D; ++j) Lp[i * D + j] = l[i][j];
+    if constexpr (Integrate) {
+      double* e = strain + p * 6;
+      for (int i = 0; i < D; ++i)
+        for (int j = i; j < D; ++j) e[voigt_index(i, j)] += 0.5 * (l[i][j] + l[j][i]) * dt;
+      // Volume follows det(I + L dt) of the step.
+      volume[p] *= step_jacobian<D>(Lp, dt);
+    }
+  }
+}
+
+template <int D>
+void strain_volume_kernel(std::size_t begin, std::size_t end, double dt, const double* L, double* strain,
+                          double* volume) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const double* Lp = L + p * D * D;
+    double* e = strain + p * 6;
     for (int i = 0; i < D; ++i)
-      for (int j = i; j < D; ++j) e[voigt_index(i, j)] += 0.5 * (l[i][j] + l[j][i]) * dt;
-    // Volume follows det(I + L dt) of the step.
+      for (int j = i; j < D; ++j) e[voigt_index(i, j)] += 0.5 * (Lp[i * D + j] + Lp[j * D + i]) * dt;
     volume[p] *= step_jacobian<D>(Lp, dt);
+  }
+}
+
+// Cell-averaged volumetric strain rate (anti-locking): the volume and the
+// volume-weighted trace of L of the points of each cell...
+template <int D>
+void cell_volumetric_rate_kernel(std::size_t begin, std::size_t end, const std::int64_t* cell, const double* L,
+                                 const double* volume, double* cell_volume, double* cell_rate) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const double* Lp = L + p * D * D;
+    double tr = 0;
+    for (int i = 0; i < D; ++i) tr += Lp[i * D + i];
+    cell_volume[cell[p]] += volume[p];
+    cell_rate[cell[p]] += volume[p] * tr;
+  }
+}
+
+// ... then each point's trace replaced by its cell's mean, the deviatoric
+// part of L kept.
+template <int D>
+void replace_volumetric_rate_kernel(std::size_t begin, std::size_t end, const std::int64_t* cell,
+                                    const double* cell_volume, const double* cell_rate, double* L) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double* Lp = L + p * D * D;
+    double tr = 0;
+    for (int i = 0; i < D; ++i) tr += Lp[i * D + i];
+    const double shift = (cell_rate[cell[p]] / cell_volume[cell[p]] - tr) / D;
+    for (int i = 0; i < D; ++i) Lp[i * D + i] += shift;
   }
 }
 

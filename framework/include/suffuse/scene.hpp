@@ -55,6 +55,18 @@ struct OutputSpec {
   std::optional<double> interval;  // [s]; absent: end time / 20
 };
 
+// A boundary condition whose reaction the run records: the force its
+// velocity constraints exert on the skeleton's nodes, and how far it moved
+// them (<scene>.reactions.csv).
+struct ReactionSpec {
+  std::size_t condition;  // index into Scene::boundary_conditions
+  std::string name;       // names its columns
+};
+
+// How each point's volumetric strain rate is obtained: from its own velocity
+// gradient, or as the volume-weighted mean over the points of its cell.
+enum class VolumetricStrain { point, cell_average };
+
 struct Scene {
   std::filesystem::path file;
   std::string name;  // file stem, names output series
@@ -67,8 +79,10 @@ struct Scene {
   std::vector<LiquidSpec> liquids;
   std::vector<BodySpec> bodies;
   std::vector<PluginNode> boundary_conditions;
+  std::vector<ReactionSpec> reactions;
   std::array<double, 3> gravity{};
   double damping = 0;  // local non-viscous damping coefficient
+  VolumetricStrain volumetric_strain = VolumetricStrain::point;
   double end_time = 0;
   std::optional<double> dt;  // absent: automatic from the CFL condition
   double cfl = 0.5;

@@ -30,6 +30,7 @@ namespace suffuse {
 namespace detail {
 class Domain;
 class Materials;
+class Reactions;
 class MomentumBalance;
 class DryMomentum;
 class SaturatedMixture;
@@ -136,11 +137,14 @@ class Simulation {
   void set_geostatic_stress(const BodySpec& body, std::size_t begin, std::size_t end);
   void apply_loads(double time);  // boundary conditions' external forces
   void constrain_velocity(double time);
+  // The same, measuring the reactions the scene asks for (the grid update's).
+  void constrain_velocity_recording_reactions(double time, double dt);
   void write_run_info(const std::filesystem::path& file) const;
 
   Scene scene_;
   std::unique_ptr<detail::Domain> domain_;
   std::unique_ptr<detail::Materials> materials_;
+  std::unique_ptr<detail::Reactions> reactions_;
   std::vector<std::unique_ptr<BoundaryCondition>> bcs_;
   std::unique_ptr<detail::SaturatedMixture> mixture_;  // saturated runs
   std::unique_ptr<detail::DryMomentum> dry_;           // dry runs

@@ -1,0 +1,71 @@
+#include "reactions.hpp"
+
+#include <algorithm>
+#include <ostream>
+
+#include "executor.hpp"
+#include "solid_kernels.hpp"
+
+namespace suffuse::detail {
+
+Reactions::Reactions(const std::vector<ReactionSpec>& specs, int dim, double damping) : dim_(dim), damping_(damping) {
+  for (const ReactionSpec& s : specs) records_.push_back({s.condition, s.name});
+}
+
+void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, const GridGeometry& grid, NodeState& nodes,
+                          double time, double dt) {
+  const auto record = std::find_if(records_.begin(), records_.end(), [&](const Record& r) { return r.condition == b; });
+  if (record == records_.end()) {
+    bc.constrain_velocity(grid, nodes, time);
+    return;
+  }
+  before_.assign(nodes.velocity.begin(), nodes.velocity.end());
+  bc.constrain_velocity(grid, nodes, time);
+  const int D = dim_;
+  std::array<double, 3> momentum{}, held_mass{}, held_momentum{};
+  for (std::size_t I = 0; I < nodes.mass.size(); ++I) {
+    const double m = nodes.mass[I];
+    if (m <= 0) continue;
+    for (int i = 0; i < D; ++i) {
+      const double v = nodes.velocity[I * D + i], free = before_[I * D + i];
+      if (v == free) continue;
+      // The node's unbalanced force without the (numerical) local damping:
+      // the reaction balances that force, not the damping's.
+      const double v_old = nodes.momentum[I * D + i] / m;
+      const double damped_force = m * (free - v_old) / dt;
+      momentum[i] += m * (v - v_old) - undamped(damped_force, v_old, damping_) * dt;
+      held_mass[i] += m;
+      held_momentum[i] += m * v;
+    }
+  }
+  for (int i = 0; i < D; ++i) {
+    record->impulse[i] += global_sum(momentum[i]);
+    const double mass = global_sum(held_mass[i]);
+    if (mass > 0) record->displacement[i] += global_sum(held_momentum[i]) / mass * dt;
+  }
+  record->elapsed += dt;
+}
+
+void Reactions::write_header(std::ostream& out) const {
+  const char* axes = "xyz";
+  const std::string force_unit = dim_ == 2 ? "N/m" : "N";
+  out << "time [s]";
+  for (const Record& r : records_) {
+    for (int i = 0; i < dim_; ++i) out << ',' << r.name << " F" << axes[i] << " [" << force_unit << ']';
+    for (int i = 0; i < dim_; ++i) out << ',' << r.name << " u" << axes[i] << " [m]";
+  }
+  out << '\n';
+}
+
+void Reactions::write_row(std::ostream& out, double time) {
+  out << time;
+  for (Record& r : records_) {
+    for (int i = 0; i < dim_; ++i) out << ',' << (r.elapsed > 0 ? r.impulse[i] / r.elapsed : 0.0);
+    for (int i = 0; i < dim_; ++i) out << ',' << r.displacement[i];
+    r.impulse = {};
+    r.elapsed = 0;
+  }
+  out << '\n';
+}
+
+}  // namespace suffuse::detail

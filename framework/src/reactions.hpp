@@ -1,0 +1,56 @@
+#pragma once
+// Reactions of boundary conditions: the force a condition's velocity
+// constraints exert on the skeleton, and how far they moved it, for the
+// conditions a scene names ("reaction"): a footing's load-settlement curve, the
+// force on a retaining wall, the base shear of a column.
+//
+// The force is measured at the grid update, at the nodes whose velocity the
+// condition changed, so it needs nothing from the plugin but its
+// constrain_velocity(): R = sum_I m_I (v_I - p_I/m_I) / dt - F_I, the
+// momentum the node gains over the step less its unbalanced force F_I
+// (internal and external; the local damping, a numerical force, is not
+// counted: with damping 0.1 it would add 10% to a footing's load). m_I is
+// the nodal mass of the update (mass scaling included). The constraint
+// after the MUSL remap re-imposes the same velocities on a projection and is
+// not counted.
+// The displacement along an axis is the time integral of the mass-weighted
+// mean velocity of the nodes whose velocity the condition changed along it.
+#include <array>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "suffuse/boundary_condition.hpp"
+#include "suffuse/scene.hpp"
+
+namespace suffuse::detail {
+
+class Reactions {
+ public:
+  Reactions(const std::vector<ReactionSpec>& specs, int dim, double damping);
+
+  bool empty() const { return records_.empty(); }
+  // Condition `b` constrains the nodes' velocities; if its reaction is
+  // recorded, what it changed over the step `dt` is measured.
+  void constrain(std::size_t b, const BoundaryCondition& bc, const GridGeometry& grid, NodeState& nodes,
+                 double time, double dt);
+
+  // CSV: "time [s]", then per recorded condition its force components (the
+  // mean over the steps since the previous row) and its displacement now.
+  void write_header(std::ostream& out) const;
+  void write_row(std::ostream& out, double time);
+
+ private:
+  struct Record {
+    std::size_t condition;
+    std::string name;
+    std::array<double, 3> impulse{}, displacement{};  // impulse since the last row [N s]
+    double elapsed = 0;                               // time since the last row [s]
+  };
+  int dim_;
+  double damping_;  // the scene's local damping, taken out of the reactions
+  std::vector<Record> records_;
+  std::vector<double> before_;  // nodal velocities before the constraint
+};
+
+}  // namespace suffuse::detail
