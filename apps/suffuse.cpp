@@ -38,7 +38,7 @@ const char* usage =
     "  suffuse validate SCENE.json   check a scene against the plugin schemas, run nothing\n"
     "  suffuse element SCENE.json [--output DIR] [--quiet]\n"
     "                                drive one point of a phase along a test path (element test);\n"
-    "                                writes DIR/<scene>.element.csv (default ./output/<scene name>)\n"
+    "                                writes DIR/<scene>[.<case>].element.csv (default ./output/<scene name>)\n"
     "  suffuse plugins               list the plugins found, with their libraries\n"
     "  suffuse describe NAME         print the parameters of a plugin (or a core section:\n"
     "                                scene, grid, time, body, output)\n"
@@ -237,13 +237,21 @@ int cmd_element(const fs::path& scene_file, const fs::path& output, bool quiet) 
   suffuse::PluginLoader loader(registry);
   const suffuse::ElementScene scene = suffuse::load_element_scene(scene_file, registry, loader);
   fs::create_directories(output);
-  const fs::path file = output / (scene.name + ".element.csv");
-  std::ofstream csv(file);
-  if (!csv) throw suffuse::Error("cannot write " + file.string());
-  if (!quiet) std::cout << "suffuse " << suffuse::framework_version << ": element test of " << scene.material.type
-                        << ", " << scene.stages.size() << " stage(s); rows in " << file.string() << "\n";
-  const int increments = suffuse::run_element_test(scene, registry, csv);
-  if (!quiet) std::cout << "done: " << increments << " increments\n";
+  if (!quiet)
+    std::cout << "suffuse " << suffuse::framework_version << ": element test of " << scene.material.type
+              << (scene.material_base ? " around " + scene.material_base->type : std::string()) << ", "
+              << scene.cases.size() << " case(s)\n";
+  for (std::size_t c = 0; c < scene.cases.size(); ++c) {
+    const std::string& name = scene.cases[c].name;
+    const fs::path file = output / (scene.name + (name.empty() ? "" : "." + name) + ".element.csv");
+    std::ofstream csv(file);
+    if (!csv) throw suffuse::Error("cannot write " + file.string());
+    const suffuse::ElementResult result = suffuse::run_element_test(scene, c, registry, csv);
+    if (quiet) continue;
+    std::cout << "  " << (name.empty() ? "" : name + ": ") << result.increments << " increments, rows in "
+              << file.string() << "\n";
+    for (const suffuse::ElementEvent& e : result.events) std::cout << "    " << e.message() << "\n";
+  }
   return 0;
 }
 

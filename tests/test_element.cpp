@@ -38,7 +38,7 @@ TEST(ElementTest, ExampleScenesFollowTheClosedForms) {
   suffuse::PluginLoader loader(registry);
   const suffuse::ElementScene scene = suffuse::load_element_scene(file, registry, loader);
   std::ostringstream out;
-  EXPECT_EQ(suffuse::run_element_test(scene, registry, out), 3200);
+  EXPECT_EQ(suffuse::run_element_test(scene, 0, registry, out).increments, 3200);
   const auto rows = rows_of(out.str());
   ASSERT_EQ(rows.size(), 3202u) << "a header, the initial state and a row per increment";
   const auto& h = rows[0];
@@ -71,7 +71,7 @@ TEST(ElementTest, DrainedTriaxialHoldsTheCellPressure) {
   suffuse::PluginLoader loader(registry);
   const auto scene = suffuse::parse_element_scene(j.dump(), "mc.json", ".", registry, loader);
   std::ostringstream out;
-  suffuse::run_element_test(scene, registry, out);
+  suffuse::run_element_test(scene, 0, registry, out);
   const auto rows = rows_of(out.str());
   const double p = std::stod(rows.back()[column(rows[0], "p [Pa]")]);
   const double q = std::stod(rows.back()[column(rows[0], "q [Pa]")]);
@@ -86,7 +86,7 @@ std::vector<std::vector<std::string>> run_scene(const nlohmann::json& j) {
   suffuse::PluginLoader loader(registry);
   const auto scene = suffuse::parse_element_scene(j.dump(), "element.json", ".", registry, loader);
   std::ostringstream out;
-  suffuse::run_element_test(scene, registry, out);
+  suffuse::run_element_test(scene, 0, registry, out);
   return rows_of(out.str());
 }
 
@@ -188,7 +188,7 @@ TEST(ElementTest, StressBeyondFailureIsReportedAsFailure) {
   const auto scene = suffuse::parse_element_scene(j.dump(), "mc.json", ".", registry, loader);
   std::ostringstream out;
   try {
-    suffuse::run_element_test(scene, registry, out);
+    suffuse::run_element_test(scene, 0, registry, out);
     ADD_FAILURE() << "held a stress beyond failure";
   } catch (const suffuse::Error& e) {
     const std::string what = e.what();

@@ -76,7 +76,7 @@ ElementRows element_test(const nlohmann::json& material, double p0, const nlohma
   suffuse::PluginLoader loader(registry);
   const auto scene = suffuse::parse_element_scene(j.dump(), "test.json", ".", registry, loader);
   std::ostringstream csv;
-  suffuse::run_element_test(scene, registry, csv);
+  suffuse::run_element_test(scene, 0, registry, csv);
   ElementRows out;
   std::stringstream in(csv.str());
   std::string line;

@@ -5,32 +5,32 @@
 namespace suffuse::detail {
 
 Materials::Materials(const Scene& scene, const Registry& registry) {
-  for (const MaterialSpec& m : scene.materials)
-    phases_.push_back(registry.create<Phase>(m.phase.type, {m.phase.params, scene.dim, m.phase.pointer}));
+  phases_.reserve(scene.materials.size());
+  for (const MaterialSpec& m : scene.materials) phases_.emplace_back(registry, m.phase, m.base, scene.dim);
 }
 
 std::vector<const Phase*> Materials::phases() const {
   std::vector<const Phase*> all;
-  for (const auto& p : phases_) all.push_back(p.get());
+  for (const auto& p : phases_) all.push_back(&p.phase());
   return all;
 }
 
 void Materials::add_fields(PointSet& points) {
-  for (const auto& phase : phases_) {
-    if (!phase->writes_eigenstrain() || eigenstrain_) continue;
+  for (const auto& material : phases_) {
+    if (!material.phase().writes_eigenstrain() || eigenstrain_) continue;
     using K = FieldKind;
     eigenstrain_ = points.add_field(
         {"eigenstrain", K::SymmetricTensor, "-", "inelastic strain imposed by the phase, accumulated", true});
     eigenstrain_increment_ = points.add_field(
         {"eigenstrain_increment", K::SymmetricTensor, "-", "the eigenstrain of the last step", false});
   }
-  for (const auto& phase : phases_) phase->add_fields(points);
+  for (auto& material : phases_) material.add_fields(points);
 }
 
 void Materials::update_stress(Domain& d, double dt) const {
   PointSet& points = d.points;
   for (const BodyPoints& body : d.bodies) {
-    const Phase& phase = *phases_[body.material];
+    const Phase& phase = phases_[body.material].phase();
     d.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {
       const PointRange range{body.range.begin + b, body.range.begin + e};
       std::span<const double> eigenstrain;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "domain.hpp"
+#include "material_phase.hpp"
 #include "suffuse/phase.hpp"
 
 namespace suffuse::detail {
@@ -14,7 +15,7 @@ class Materials {
  public:
   Materials(const Scene& scene, const Registry& registry);
 
-  const Phase& phase(std::size_t material) const { return *phases_[material]; }
+  const Phase& phase(std::size_t material) const { return phases_[material].phase(); }
   std::vector<const Phase*> phases() const;
 
   // After every other part registered its fields: the eigenstrain fields
@@ -26,7 +27,7 @@ class Materials {
   void update_stress(Domain& domain, double dt) const;
 
  private:
-  std::vector<std::unique_ptr<Phase>> phases_;
+  std::vector<MaterialPhase> phases_;
   std::optional<FieldId> eigenstrain_, eigenstrain_increment_;
 };
 

@@ -120,6 +120,7 @@ void check_required_fields(SceneReader& r, const Scene& scene) {
   std::vector<const PluginNode*> nodes = {&scene.shape_function};
   for (const MaterialSpec& m : scene.materials) {
     nodes.push_back(&m.phase);
+    if (m.base) nodes.push_back(&*m.base);
     if (m.permeability) nodes.push_back(&*m.permeability);
     if (m.erosion) nodes.push_back(&*m.erosion);
   }

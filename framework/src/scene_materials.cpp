@@ -16,7 +16,7 @@ void read_materials(SceneReader& r, Scene& scene) {
     MaterialSpec m;
     m.name = name;
     const std::string ptr = pointer_append("/materials", name);
-    m.phase = r.plugin_node(node, ptr, PluginKind::Phase, {"permeability", "erosion"});
+    read_phase(r, node, ptr, {"permeability", "erosion"}, m.phase, m.base);
     if (node.is_object() && node.contains("permeability"))
       m.permeability = r.plugin_node(node["permeability"], ptr + "/permeability", PluginKind::PermeabilityLaw);
     if (node.is_object() && node.contains("erosion"))
@@ -37,6 +37,31 @@ void read_liquids(SceneReader& r, Scene& scene) {
 }
 
 }  // namespace
+
+void read_phase(SceneReader& r, const Json& node, const std::string& ptr, std::set<std::string> core_keys,
+                PluginNode& phase, std::optional<PluginNode>& base) {
+  const PluginInfo* info = node.is_object() && node.contains("type") && node["type"].is_string()
+                               ? r.registry.find(node["type"].get<std::string>())
+                               : nullptr;
+  const bool wraps = info && info->kind == PluginKind::Phase && info->wraps_phase;
+  if (wraps) core_keys.insert("base");
+  phase = r.plugin_node(node, ptr, PluginKind::Phase, core_keys);
+  if (!wraps) return;
+  if (!node.contains("base")) {
+    r.error(ptr + "/base", "missing base phase", "the phase node " + phase.type + " wraps (e.g. phase/mohr_coulomb)",
+            "nothing", phase.type);
+    return;
+  }
+  const Json& b = node["base"];
+  const PluginInfo* base_info =
+      b.is_object() && b.contains("type") && b["type"].is_string() ? r.registry.find(b["type"].get<std::string>()) : nullptr;
+  if (base_info && base_info->kind == PluginKind::Phase && base_info->wraps_phase) {
+    r.error(ptr + "/base/type", "a wrapping phase as a base", "a phase that wraps none (e.g. phase/modified_cam_clay)",
+            "\"" + base_info->name + "\"", phase.type);
+    return;
+  }
+  base = r.plugin_node(b, ptr + "/base", PluginKind::Phase);
+}
 
 SceneSection materials_section() {
   return {"materials", "",

@@ -5,6 +5,7 @@
 // configures (scene_<section>.cpp); scene.cpp lists them in reading order.
 #include <array>
 #include <functional>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -36,6 +37,11 @@ class SceneReader {
   int dim = 0;           // 0 until /dimension is valid
   bool grid_ok = false;  // the grid is valid, so bodies can be checked against it
 };
+
+// A phase node (a material's, or an element test's) with its "base" if its
+// plugin wraps one; `core_keys` are the core's other keys of the node.
+void read_phase(SceneReader& r, const Json& node, const std::string& ptr, std::set<std::string> core_keys,
+                PluginNode& phase, std::optional<PluginNode>& base);
 
 // One section of a scene file.
 struct SceneSection {

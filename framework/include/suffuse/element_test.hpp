@@ -10,6 +10,7 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "suffuse/plugin.hpp"
@@ -29,22 +30,54 @@ struct ElementInput {
   double end_value;
 };
 
+// A limit on a reported field that ends a stage when the field reaches it
+// (for example the erosion-induced shear strain of a suffosion test passing
+// 10%: "runaway"); the run goes on with the next stage.
+struct ElementLimit {
+  std::string field;
+  double value;
+};
+
 struct ElementStage {
   ElementPath path;
   double strain = 0;  // volumetric (isotropic) or axial strain of the stage, compression positive [-]
   int increments = 1;
   // stress_controlled: p' and q at the stage's end, reached linearly in
   // equal increments (compression positive) [Pa]; absent: held at the
-  // stage's start (a hold).
-  std::optional<double> p, q;
+  // stage's start (a hold). Or eta: q/p' at the end along the drained
+  // triaxial stress path (the lateral stress held).
+  std::optional<double> p, q, eta;
   std::vector<ElementInput> inputs;
+  std::vector<ElementLimit> until;
+};
+
+// One path from the initial state: a scene without "cases" has one, unnamed.
+struct ElementCase {
+  std::string name;
+  std::vector<ElementStage> stages;
 };
 
 struct ElementScene {
   std::string name;
   PluginNode material;
+  std::optional<PluginNode> material_base;  // the phase `material` wraps, if it wraps one
   double initial_pressure = 0;  // isotropic initial effective stress, compression positive [Pa]
-  std::vector<ElementStage> stages;
+  std::vector<ElementCase> cases;
+};
+
+// A stage ended by one of its limits: where, and every reported value
+// (inputs, p, q, the phase's fields) interpolated linearly to the crossing.
+struct ElementEvent {
+  std::size_t stage;
+  int increment;  // the first increment at or past the limit
+  ElementLimit limit;
+  std::vector<std::pair<std::string, double>> at;
+  std::string message() const;
+};
+
+struct ElementResult {
+  int increments = 0;
+  std::vector<ElementEvent> events;
 };
 
 // Reads and validates an element-test scene (plugins found as for a run);
@@ -53,13 +86,14 @@ ElementScene load_element_scene(const std::filesystem::path& file, Registry& reg
 ElementScene parse_element_scene(const std::string& text, const std::string& name,
                                  const std::filesystem::path& base_dir, Registry& registry, PluginLoader& loader);
 
-// Runs the stages, writing one CSV row per increment (and the initial state)
-// to `csv`, flushed as it goes: a path that cannot be followed (the lateral
-// stress of a drained triaxial stage or the stress of a stress-controlled
-// stage cannot be held, a value turns non-finite) throws Error naming the
-// stage and the increment and saying "failure", and the rows written so far
-// stay readable. Returns the number of increments run.
-int run_element_test(const ElementScene& scene, const Registry& registry, std::ostream& csv);
+// Runs the stages of case `index`, writing one CSV row per increment (and
+// the initial state) to `csv`, flushed as it goes: a path that cannot be
+// followed (the lateral stress of a drained triaxial stage or the stress of
+// a stress-controlled stage cannot be held, a value turns non-finite) throws
+// Error naming the stage and the increment and saying "failure", and the
+// rows written so far stay readable.
+ElementResult run_element_test(const ElementScene& scene, std::size_t index, const Registry& registry,
+                               std::ostream& csv);
 
 // Schema of the element-test scene and of one stage, for `suffuse describe`.
 ParameterSchema element_scene_schema();

@@ -9,6 +9,8 @@
 //     static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters&, int dim);
 //     // optional: point fields of other parts it reads (phases), checked at validation
 //     static std::vector<std::string> required_fields(const suffuse::Parameters&, int dim);
+//     // optional, phases: wraps the phase given under "base" (PluginArgs::base)
+//     static constexpr bool wraps_base_phase = true;
 //     explicit MyLaw(const suffuse::PluginArgs& args);   // reads them once
 //     void rate(const suffuse::ErosionBatch&) const override;
 //   };
@@ -80,6 +82,10 @@ struct PluginArgs {
   const Parameters& params;   // validated, defaults filled in
   int dim;                    // 2 or 3
   std::string instance;       // JSON pointer of the scene node, for messages
+  // A phase that wraps another (static constexpr bool wraps_base_phase =
+  // true): the base phase of the scene node's "base", built and owned by the
+  // core, its fields already registered. Null for every other plugin.
+  const Phase* base = nullptr;
 };
 
 struct PluginInfo {
@@ -97,6 +103,8 @@ struct PluginInfo {
   // (e.g. "eroded_fraction"). A scene that provides none of that name is
   // refused at validation, naming the field.
   std::function<std::vector<std::string>(const Parameters&, int dim)> required_fields;
+  // A phase that wraps a base phase, given in its scene node under "base".
+  bool wraps_phase = false;
   std::string library;  // file the plugin was loaded from (set by the loader)
 };
 
@@ -118,6 +126,8 @@ class Registry {
     // ... and `static std::vector<std::string> required_fields(const Parameters&, int dim)`.
     if constexpr (requires(const Parameters& p) { Impl::required_fields(p, 2); })
       info.required_fields = &Impl::required_fields;
+    // ... and `static constexpr bool wraps_base_phase = true` (phases only).
+    if constexpr (requires { Impl::wraps_base_phase; }) info.wraps_phase = Impl::wraps_base_phase;
     add_info(std::move(info));
   }
 

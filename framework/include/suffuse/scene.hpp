@@ -24,6 +24,7 @@ struct PluginNode {
 struct MaterialSpec {
   std::string name;
   PluginNode phase;
+  std::optional<PluginNode> base;          // the phase `phase` wraps, if its plugin wraps one
   std::optional<PluginNode> permeability;  // required when a saturated body uses it
   std::optional<PluginNode> erosion;       // an erosion law: the skeleton's fines can be washed out
 };
