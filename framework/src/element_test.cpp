@@ -90,10 +90,11 @@ class Sample {
       phase.eigenstrain(StressBatch{points_, {0, 1}, 1.0, {}}, eigenstrain);
       imposed = eigenstrain;
     }
-    phase.update_stress(StressBatch{points_, {0, 1}, 1.0, imposed});
-    // The total strain, in the sample and in the core's field, as in a run.
+    // The total strain, in the sample and in the core's field, updated before
+    // the stress as in a run.
     double* strain = points_.data(points_.core().strain);
     for (int c = 0; c < 6; ++c) strain_[c] += de[c], strain[c] += de[c];
+    phase.update_stress(StressBatch{points_, {0, 1}, 1.0, imposed});
   }
 
   // One increment under mixed control: the unknown normal strains by Newton
@@ -200,9 +201,12 @@ void write_row(std::ostream& csv, int increment, int stage, const std::vector<do
 std::string ElementEvent::message() const {
   std::ostringstream m;
   m.precision(6);
-  m << "path stage " << stage << ": " << limit.field << " reached " << limit.value << " at increment " << increment;
+  m << "path stage " << stage << ": " << limit.field << " reached " << limit.value << " at increment " << increment
+    << ", with";
   for (const auto& [name, value] : at)
-    if (name != limit.field) m << ", " << name << " " << value;
+    if (name != limit.field &&
+        (name == "eps_v" || name == "eps_s" || std::find(inputs.begin(), inputs.end(), name) != inputs.end()))
+      m << ' ' << name << ' ' << value;
   return m.str();
 }
 
@@ -280,7 +284,8 @@ ElementResult run_element_test(const ElementScene& scene, std::size_t index, con
         const double limit = stage.until[l].value, before = previous[c], now = values[c];
         if ((before - limit) * (now - limit) > 0 || before == limit) continue;
         const double t = now == before ? 1.0 : (limit - before) / (now - before);
-        ElementEvent event{k, increment, stage.until[l], {}};
+        ElementEvent event{k, increment, stage.until[l], {}, {}};
+        for (const ElementInput& in : stage.inputs) event.inputs.push_back(in.field);
         for (std::size_t n = 0; n < names.size(); ++n)
           event.at.emplace_back(names[n], previous[n] + t * (values[n] - previous[n]));
         result.events.push_back(std::move(event));

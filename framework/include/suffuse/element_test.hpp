@@ -72,6 +72,7 @@ struct ElementEvent {
   int increment;  // the first increment at or past the limit
   ElementLimit limit;
   std::vector<std::pair<std::string, double>> at;
+  std::vector<std::string> inputs;  // the stage's input fields, named in message()
   std::string message() const;
 };
 

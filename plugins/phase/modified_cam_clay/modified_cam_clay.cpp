@@ -149,7 +149,17 @@ class ModifiedCamClay final : public suffuse::Phase {
     for (std::size_t i = b.range.begin; i < b.range.end; ++i) {
       const auto [d, w] = increments(i);
       double* s6 = stress + i * 6;
-      const double v_n = 1 + e[i], pc_n = pcs[i];
+      double v_n = 1 + e[i], pc_n = pcs[i];
+      if (!b.eigenstrain.empty()) {
+        // An eigenstrain (a wrapping phase's, e.g. erosion-induced) is
+        // inelastic: its volume change moves v at constant p' along the
+        // plastic lines, -dv = (lambda - kappa) d ln p_c, so p_c hardens with
+        // its compaction and softens with its dilation.
+        const double eig = t::volumetric_strain(b.eigenstrain.data() + (i - b.range.begin) * 6);
+        const double dv = 1 - std::exp(-eig);  // -dv / v_n
+        pc_n *= std::exp(v_n * dv / (lambda_ - kappa_));
+        v_n *= 1 - dv;
+      }
       // A point unloaded below the minimum mean stress (a free surface) is
       // brought back to it, isotropically, in its stress too: the model has
       // no stiffness at p' = 0.
