@@ -163,3 +163,108 @@ TEST(Suffosion, RunawayNearTheCriticalStressRatio) {
 }
 
 }  // namespace
+
+namespace {
+
+// The suffusion column (share/scenes/suffusion_column.json) under a 50 kPa
+// surcharge, isotropically stressed (k0 = 1, so eta is near 0 and the onset
+// near f_so0 = 2%), with a Mohr-Coulomb skeleton of Poisson's ratio 0 (its
+// vertical strain then owes nothing to the lateral stress the compaction
+// relaxes) and a constant permeability, with and without phase/suffosion
+// around it.
+nlohmann::json surcharged_column(bool suffosion) {
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  j["outputs"] = nlohmann::json::array();
+  auto& m = j["materials"]["gap_graded_sand"];
+  nlohmann::json base = {{"type", "phase/mohr_coulomb"}, {"density", 2650.0}, {"youngs_modulus", 2e6},
+                         {"poisson_ratio", 0.0},         {"friction_angle", 40.0}, {"cohesion", 20e3}};
+  nlohmann::json phase = suffosion ? nlohmann::json{{"type", "phase/suffosion"}, {"base", base}} : base;
+  phase["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", 0.04}};
+  phase["erosion"] = m["erosion"];
+  m = phase;
+  auto& body = j["bodies"][0];
+  body["k0"] = 1.0;
+  body["stress"] = {-50e3, -50e3, -50e3, 0.0, 0.0, 0.0};
+  j["boundary_conditions"].push_back({{"type", "bc/traction"}, {"box_min", {0.0, 0.4}}, {"box_max", {0.04, 0.4}},
+                                      {"traction", {0.0, -50e3}}});
+  return j;
+}
+
+struct Record {
+  double time, top, eroded_beyond_onset, eigen_settlement, max_eroded;
+};
+
+// Steps the column, recording every `every` steps: the top's mean vertical
+// displacement, the largest f_er - f_so(eta) over the points, the settlement
+// the points' erosion-induced vertical strain adds up to, sum eps*_yy V / w.
+std::vector<Record> run_column(bool suffosion, double end, int every) {
+  auto j = surcharged_column(suffosion);
+  j["time"]["end"] = end;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  std::vector<Record> records;
+  const double width = 0.04;
+  // Strains integrate over the initial configuration: the points' first volumes.
+  const std::vector<double> V(sim.points().values(sim.points().core().volume).begin(),
+                              sim.points().values(sim.points().core().volume).end());
+  auto record = [&] {
+    const auto& pts = sim.points();
+    const double* x0 = pts.data(pts.core().position);
+    const double* u = pts.data(pts.core().displacement);
+    const double* f = pts.data(pts.id("eroded_fraction"));
+    double top_y = 0;
+    for (std::size_t p = 0; p < pts.size(); ++p) top_y = std::max(top_y, x0[2 * p + 1] - u[2 * p + 1]);
+    Record r{sim.time(), 0, -1, 0, 0};
+    int n = 0;
+    for (std::size_t p = 0; p < pts.size(); ++p) {
+      if (x0[2 * p + 1] - u[2 * p + 1] > top_y - 1e-9) r.top += u[2 * p + 1], ++n;
+      r.max_eroded = std::max(r.max_eroded, f[p]);
+      if (!suffosion) continue;
+      r.eroded_beyond_onset = std::max(r.eroded_beyond_onset, f[p] - pts.data(pts.id("suffosion_onset"))[p]);
+      r.eigen_settlement -= pts.data(pts.id("eigenstrain"))[p * 6 + 1] * V[p] / width;
+    }
+    r.top /= n;
+    records.push_back(r);
+  };
+  record();
+  while (sim.time() < end - 1e-9) {
+    for (int k = 0; k < every && sim.time() < end - 1e-9; ++k) sim.step();
+    record();
+  }
+  return records;
+}
+
+// Before any point's eroded fraction reaches its onset the column with
+// phase/suffosion moves exactly as the one without; after, it settles more
+// and more; at the end the extra settlement is the sum of the points'
+// erosion-induced vertical strain over the initial height, within 5%.
+TEST(Suffosion, ColumnSettlesOnceItsFinesPassTheOnset) {
+  const double end = 6.0;
+  const auto with = run_column(true, end, 500), without = run_column(false, end, 500);
+  ASSERT_EQ(with.size(), without.size());
+  std::size_t onset = with.size();
+  double previous = 0;
+  for (std::size_t k = 0; k < with.size(); ++k) {
+    const double extra = without[k].top - with[k].top;  // settlement that erosion adds
+    if (with[k].eroded_beyond_onset < 0) {
+      EXPECT_EQ(extra, 0.0) << "t = " << with[k].time << ": no point past its onset yet";
+      continue;
+    }
+    if (onset == with.size()) onset = k;
+    EXPECT_GE(extra, previous - 1e-7) << "t = " << with[k].time << ": the settlement grows";
+    previous = extra;
+  }
+  ASSERT_LT(onset + 5, with.size()) << "the fines never passed the onset";
+  EXPECT_GT(with[onset].time, 1.0) << "the onset needs f_er = 2%: it takes over a second of seepage";
+  const Record& last = with.back();
+  const double extra = without.back().top - last.top;
+  EXPECT_GT(extra, 1e-3);
+  EXPECT_NEAR(extra, last.eigen_settlement, 0.05 * last.eigen_settlement);
+  std::printf("column: onset at t = %.3f s; at %.1f s extra settlement %.4e m, sum of erosion-induced vertical strain "
+              "%.4e m (%+.2f%%), largest f_er %.4f\n",
+              with[onset].time, last.time, extra, last.eigen_settlement, 100 * (extra / last.eigen_settlement - 1),
+              last.max_eroded);
+}
+
+}  // namespace

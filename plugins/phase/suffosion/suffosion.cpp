@@ -126,6 +126,8 @@ class Suffosion final : public suffuse::Phase {
 
   void initialise(suffuse::PointSet& points, suffuse::PointRange range) const override {
     base_->initialise(points, range);
+    const double* stress = points.data(points.core().stress);
+    for (std::size_t p = range.begin; p < range.end; ++p) points.data(onset_)[p] = onset_at(stress + p * 6);
     if (!e_) return;
     double* e = points.data(*e_);
     double* e0 = points.data(e0_);
@@ -148,10 +150,9 @@ class Suffosion final : public suffuse::Phase {
     for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
       const double* s = stress + p * 6;
       const double mean = t::mean_stress(s), q = t::deviatoric_stress(s);
+      const double f_so = onset[p] = onset_at(s);
       if (!(mean > 0)) continue;  // no confinement: no skeleton stress to deform under
       const double eta = std::min(q / mean, law_.eta_max);
-      const double f_so = law_.onset(eta);
-      onset[p] = f_so;
       // The part of this step's erosion beyond the onset (deposition deforms nothing).
       const double active = std::max(0.0, f[p] - std::max(f[p] - df[p], f_so));
       if (active <= 0) continue;
@@ -183,6 +184,12 @@ class Suffosion final : public suffuse::Phase {
   }
 
  private:
+  // f_so at a stress (1 where there is no confinement: nothing to deform).
+  double onset_at(const double* s) const {
+    const double mean = t::mean_stress(s);
+    return mean > 0 ? law_.onset(std::min(t::deviatoric_stress(s) / mean, law_.eta_max)) : 1.0;
+  }
+
   const suffuse::Phase* base_;
   SuffosionLaw law_;
   std::optional<double> e0_given_;
