@@ -96,7 +96,7 @@ void expect_diagnostics(const json& scene, const std::vector<Diagnostic>& expect
   for (std::size_t i = 0; i < diags.size(); ++i) expect_diagnostic(diags[i], expected[i]);
 }
 
-const char* const kPhaseExpected = "a phase plugin, one of {phase/linear_elastic, phase/modified_cam_clay, phase/mohr_coulomb}";
+const char* const kPhaseExpected = "a phase plugin, one of {phase/linear_elastic, phase/modified_cam_clay, phase/mohr_coulomb, phase/suffosion}";
 const char* const kUnknownPlugin =
     "unknown plugin (no library found registers it; `suffuse plugins` lists what was found; add its library "
     "with the scene's \"plugin_paths\" or $SUFFUSE_PLUGIN_PATH)";
