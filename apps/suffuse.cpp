@@ -4,6 +4,7 @@
 //   suffuse plugins
 //   suffuse describe NAME
 //   suffuse schema
+//   suffuse plot --png OUT.png --x COLUMN --y COLUMN [options] FILE.csv [FILE.csv ...]
 #include <unistd.h>
 
 #include <boost/program_options.hpp>
@@ -25,6 +26,7 @@
 #include <suffuse/version.hpp>
 #include <vector>
 
+#include "plot.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -44,6 +46,9 @@ const char* usage =
     "                                scene, grid, time, body, output)\n"
     "  suffuse schema                every parameter of every plugin and section, as JSON\n"
     "  suffuse reference             the scene reference manual, as Markdown\n"
+    "  suffuse plot --png OUT.png --x COLUMN --y COLUMN [--y COLUMN ...] [options] FILE.csv [FILE.csv ...]\n"
+    "                                line charts of CSV columns (e.g. element-test results) to a PNG,\n"
+    "                                no display needed; suffuse plot --help lists its options\n"
     "Plugins are searched in the scene's plugin_paths, then $SUFFUSE_PLUGIN_PATH, then\n"
     "the bundled plugin directory.\n";
 
@@ -324,10 +329,76 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
   return 0;
 }
 
+const char* plot_usage =
+    "Usage: suffuse plot --png OUT.png --x COLUMN --y COLUMN [--y COLUMN ...] [options] FILE.csv [FILE.csv ...]\n"
+    "Draws one line per FILE and --y COLUMN against --x COLUMN into a PNG, without a display (VTK\n"
+    "charts in an offscreen EGL context). Each FILE has a header row; a COLUMN is a header cell, or\n"
+    "the part of it before \" [\" (eroded_fraction matches 'eroded_fraction [-]'). Rows where x or y\n"
+    "is nan or inf are skipped; any other cell of those columns that is not a number is an error.\n"
+    "Legend: '<file>: <column>', or just <file> with one --y, or just <column> with one FILE. <file>\n"
+    "is the file name without .csv; with several files, the part at the start and at the end that\n"
+    "all of them share, cut at a '-', ' ' or '.' (not a decimal point), is left out (a.eta_0.element.csv\n"
+    "and a.eta_0.55.element.csv give eta_0 and eta_0.55); --full-names keeps it.\n"
+    "The PNG is written as OUT.png.part, then renamed; nothing is written on an error.\n"
+    "Example: suffuse plot --png strain.png --x eroded_fraction --y erosion_volumetric_strain\n"
+    "           --scale-x 100 --scale-y 100 output/suffosion_element/*.element.csv\n";
+
+int cmd_plot(int argc, char** argv) {
+  po::options_description opts("Options of suffuse plot");
+  opts.add_options()("help,h", "show this help")(
+      "png", po::value<std::string>(), "the PNG file to write (required)")(
+      "x", po::value<std::string>(), "the column of the horizontal axis (required)")(
+      "y", po::value<std::vector<std::string>>(), "a column of the vertical axis; repeat for more (at least one)")(
+      "title", po::value<std::string>()->default_value(""), "the chart title (default: none)")(
+      "xlabel", po::value<std::string>()->default_value(""),
+      "the horizontal axis title (default: the --x header, with its unit)")(
+      "ylabel", po::value<std::string>()->default_value(""),
+      "the vertical axis title (default: the --y headers, with their units)")(
+      "width", po::value<int>()->default_value(900), "image width [px]")(
+      "height", po::value<int>()->default_value(600), "image height [px]")(
+      "scale-x", po::value<double>()->default_value(1), "multiply the x values by F (100: fractions in percent)")(
+      "scale-y", po::value<double>()->default_value(1), "multiply the y values by F")(
+      "legend", po::value<std::string>()->default_value("auto"),
+      "legend corner: top-left, top-right, bottom-left, bottom-right, or auto (the corner the lines cross least)")(
+      "full-names", "legend with the whole file names (without .csv)");
+  po::options_description hidden;
+  hidden.add_options()("file", po::value<std::vector<std::string>>());
+  po::options_description all;
+  all.add(opts).add(hidden);
+  po::positional_options_description positional;
+  positional.add("file", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
+  po::notify(vm);
+  if (vm.count("help")) {
+    std::cout << plot_usage << "\n" << opts;
+    return 0;
+  }
+  suffuse::plot::PlotOptions o;
+  if (vm.count("png")) o.png = vm["png"].as<std::string>();
+  if (vm.count("x")) o.x = vm["x"].as<std::string>();
+  if (vm.count("y")) o.y = vm["y"].as<std::vector<std::string>>();
+  if (vm.count("file"))
+    for (const auto& f : vm["file"].as<std::vector<std::string>>()) o.files.emplace_back(f);
+  o.title = vm["title"].as<std::string>();
+  o.xlabel = vm["xlabel"].as<std::string>();
+  o.ylabel = vm["ylabel"].as<std::string>();
+  o.width = vm["width"].as<int>();
+  o.height = vm["height"].as<int>();
+  o.scale_x = vm["scale-x"].as<double>();
+  o.scale_y = vm["scale-y"].as<double>();
+  o.legend = suffuse::plot::parse_legend_corner(vm["legend"].as<std::string>());
+  o.full_names = vm.count("full-names") != 0;
+  suffuse::plot::write_plot(o);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
+    // plot has options and a list of files of its own.
+    if (argc >= 2 && std::string(argv[1]) == "plot") return cmd_plot(argc - 1, argv + 1);
     po::options_description opts("Options");
     opts.add_options()("help,h", "show this help")("version", "print the version")(
         "output,o", po::value<std::string>(), "output directory (run)")(
