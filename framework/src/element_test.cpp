@@ -201,8 +201,12 @@ void write_row(std::ostream& csv, int increment, int stage, const std::vector<do
 std::string ElementEvent::message() const {
   std::ostringstream m;
   m.precision(6);
-  m << "path stage " << stage << ": " << limit.field << " reached " << limit.value << " at increment " << increment
-    << ", with";
+  if (failure)
+    m << "path stage " << stage << ": failure at increment " << increment
+      << ": the stress cannot be held (the sample collapses); the last increment carried had";
+  else
+    m << "path stage " << stage << ": " << limit.field << " reached " << limit.value << " at increment " << increment
+      << ", with";
   for (const auto& [name, value] : at)
     if (name != limit.field &&
         (name == "eps_v" || name == "eps_s" || std::find(inputs.begin(), inputs.end(), name) != inputs.end()))
@@ -265,6 +269,16 @@ ElementResult run_element_test(const ElementScene& scene, std::size_t index, con
         }
       }
       if (!sample.apply(control)) {
+        // A stage watching for a limit (a runaway) ends the case at a
+        // collapse as well: the values of the last increment it carried.
+        if (!stage.until.empty()) {
+          ElementEvent event{k, increment, {"failure", 0.0}, {}, {}};
+          for (std::size_t n = 0; n < names.size(); ++n) event.at.emplace_back(names[n], previous[n]);
+          for (const ElementInput& in : stage.inputs) event.inputs.push_back(in.field);
+          event.failure = true;
+          result.events.push_back(std::move(event));
+          return result;
+        }
         if (stage.path == ElementPath::drained_triaxial)
           throw Error(where() + ": failure: the lateral stress " + detail::format(-lateral) +
                       " Pa cannot be held (the sample cannot carry the path)");

@@ -67,12 +67,16 @@ struct ElementScene {
 
 // A stage ended by one of its limits: where, and every reported value
 // (inputs, p, q, the phase's fields) interpolated linearly to the crossing.
+// Or, in a stage that has limits, a collapse (failure): the sample could not
+// carry the stage's stress at `increment`; `at` holds the values of the
+// increment before, and the case ends there.
 struct ElementEvent {
   std::size_t stage;
-  int increment;  // the first increment at or past the limit
+  int increment;  // the first increment at or past the limit, or the one that failed
   ElementLimit limit;
   std::vector<std::pair<std::string, double>> at;
   std::vector<std::string> inputs;  // the stage's input fields, named in message()
+  bool failure = false;
   std::string message() const;
 };
 
