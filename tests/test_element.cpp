@@ -199,8 +199,7 @@ TEST(ElementTest, StressBeyondFailureIsReportedAsFailure) {
   EXPECT_NEAR(value(rows, 7, "q [Pa]"), 120e3, 1e-6);
 }
 
-// Bad element scenes are refused with the JSON path; a phase that writes an
-// eigenstrain is refused at the start, naming the material.
+// Bad element scenes are refused with the JSON path.
 TEST(ElementTest, BadScenesAreRefusedWithTheirPath) {
   const nlohmann::json good = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/triaxial_mcc.json");
   auto expect_error = [](const nlohmann::json& j, const std::string& pointer) {
@@ -237,6 +236,29 @@ TEST(ElementTest, BadScenesAreRefusedWithTheirPath) {
   j = good;
   j["path"][1].erase("strain");
   expect_error(j, "/path/1/strain");
+  j = good;
+  j["path"][1]["increments"] = 0;
+  expect_error(j, "/path/1/increments");
+  j = good;
+  j["path"][1]["until"] = {{"eta", -0.3}};
+  expect_error(j, "/path/1/until/eta");  // the CSV's eta is a magnitude
+  j = good;
+  j["path"][1]["until"] = {{"stress_ratio_of_the_moon", 1.0}};
+  expect_error(j, "/path/1/until/stress_ratio_of_the_moon");
+  // A wrapping phase: its base is required and cannot wrap in turn.
+  const nlohmann::json suffosion = {{"type", "phase/suffosion"}};
+  j = good;
+  j["material"] = suffosion;
+  expect_error(j, "/material/base");
+  j["material"]["base"] = suffosion;
+  expect_error(j, "/material/base/type");
+  j["material"]["base"] = good["material"];
+  j["path"][1]["inputs"] = {{"eroded_fraction", 1.0}};
+  expect_error(j, "/path/1/inputs/eroded_fraction");
+  // Cases: named, uniquely.
+  j = good;
+  j["cases"] = {{{"name", "a"}, {"path", good["path"]}}, {{"name", "a"}, {"path", good["path"]}}};
+  expect_error(j, "/cases/1/name");
 }
 
 }  // namespace

@@ -378,3 +378,47 @@ TEST(Suffosion, LeveeCrestSettlesAfterOnset) {
 }
 
 }  // namespace
+
+namespace {
+
+// Erosion to f_er = 5%, then a hold without inputs: the eroded fraction and
+// the erosion-induced strain stop changing (the increment of the input is
+// zero in a stage that does not drive it). Around a linear elastic base.
+TEST(Suffosion, StrainStopsWhenTheErosionStops) {
+  const nlohmann::json j = {
+      {"material",
+       {{"type", "phase/suffosion"},
+        {"initial_void_ratio", 0.6},
+        {"base", {{"type", "phase/linear_elastic"}, {"density", 2650.0}, {"youngs_modulus", 5e7}, {"poisson_ratio", 0.3}}}}},
+      {"initial_pressure", 100e3},
+      {"path",
+       {{{"type", "stress_controlled"}, {"inputs", {{"eroded_fraction", 0.05}}}, {"increments", 10}},
+        {{"type", "stress_controlled"}, {"increments", 10}}}}};
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const auto scene = suffuse::parse_element_scene(j.dump(), "hold.json", ".", registry, loader);
+  std::ostringstream out;
+  suffuse::run_element_test(scene, 0, registry, out);
+  Rows r;
+  std::stringstream in(out.str());
+  std::string line;
+  std::getline(in, line);
+  for (std::stringstream h(line); std::getline(h, line, ',');) r.header.push_back(line);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    for (std::stringstream c(line); std::getline(c, line, ',');) row.push_back(std::stod(line));
+    r.rows.push_back(row);
+  }
+  ASSERT_EQ(r.rows.size(), 21u);
+  const double ev = r.at(10, "erosion_volumetric_strain");
+  EXPECT_NEAR(ev, compaction_rate(0) * (0.05 - onset(0)), 1e-9) << "eroded past the onset";
+  for (std::size_t k = 11; k < r.rows.size(); ++k) {
+    EXPECT_EQ(r.at(k, "eroded_fraction"), 0.05);
+    EXPECT_EQ(r.at(k, "erosion_volumetric_strain"), ev) << "row " << k;
+  }
+  // The phase's own void ratio (the base tracks none) follows the identity.
+  const double e = r.at(20, "void_ratio"), eps_v = r.at(20, "eps_v");
+  EXPECT_NEAR(e, 1.6 * std::exp(-eps_v) / 0.95 - 1, 1e-12);
+}
+
+}  // namespace

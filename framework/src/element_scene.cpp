@@ -19,13 +19,6 @@ namespace {
 const char* const by_scene = "core (element)";
 const char* const by_stage = "core (element stage)";
 
-// The names of the stage types, in the order of ElementPath.
-const std::vector<std::string>& path_names() {
-  static const std::vector<std::string> names = {"isotropic", "oedometer", "drained_triaxial", "undrained_triaxial",
-                                                 "stress_controlled"};
-  return names;
-}
-
 // What a stage may name: the coupling fields the phase reads (inputs) and
 // every scalar field the CSV reports (limits).
 struct SampleFields {
@@ -72,6 +65,9 @@ std::vector<ElementInput> read_inputs(const Json& node, const std::string& ptr, 
     else if (!value.is_number() || !std::isfinite(value.get<double>()))
       r.error(ptr + "/" + name, "wrong type", "a finite number (the field's value at the stage's end)",
               detail::show(value), by_stage);
+    else if (name == coupling::eroded_fraction && value.get<double>() >= 1)
+      r.error(ptr + "/" + name, "value out of range", "a number < 1 (a fraction of the solid's initial mass)",
+              detail::format(value.get<double>()), by_stage);
     else
       inputs.push_back({name, value.get<double>()});
   }
@@ -93,6 +89,9 @@ std::vector<ElementLimit> read_limits(const Json& node, const std::string& ptr, 
     else if (!value.is_number() || !std::isfinite(value.get<double>()))
       r.error(ptr + "/" + name, "wrong type", "a finite number (the value that ends the stage)", detail::show(value),
               by_stage);
+    else if ((name == "q" || name == "eta" || name == "eps_s") && value.get<double>() < 0)
+      r.error(ptr + "/" + name, "value out of range", "a number >= 0 (the CSV reports q, eta and eps_s as magnitudes)",
+              detail::format(value.get<double>()), by_stage);
     else
       limits.push_back({name, value.get<double>()});
   }
@@ -110,11 +109,11 @@ std::vector<ElementStage> read_path(const Json& path, const std::string& path_pt
     const std::string ptr = path_ptr + "/" + std::to_string(i);
     const Parameters s =
         detail::validate_object(path[i], element_stage_schema(), ptr, by_stage, 3, r.diags, {"inputs", "until"});
-    if (!s.has("type")) continue;
+    if (!s.has("type") || !s.has("increments")) continue;  // reported by validate_object
     ElementStage stage;
     const std::string& type = s.string("type");
-    stage.path = static_cast<ElementPath>(std::find(path_names().begin(), path_names().end(), type) -
-                                          path_names().begin());
+    stage.path = static_cast<ElementPath>(std::find(element_path_names().begin(), element_path_names().end(), type) -
+                                          element_path_names().begin());
     stage.increments = static_cast<int>(s.integer("increments"));
     const bool stress_controlled = stage.path == ElementPath::stress_controlled;
     if (s.has("strain") && !stress_controlled) stage.strain = s.number("strain");
@@ -142,6 +141,12 @@ std::vector<ElementStage> read_path(const Json& path, const std::string& path_pt
 
 }  // namespace
 
+const std::vector<std::string>& element_path_names() {
+  static const std::vector<std::string> names = {"isotropic", "oedometer", "drained_triaxial", "undrained_triaxial",
+                                                 "stress_controlled"};
+  return names;
+}
+
 ParameterSchema element_scene_schema() {
   ParameterSchema s;
   s.string("description").fallback(std::string()).doc("What the test shows");
@@ -154,7 +159,7 @@ ParameterSchema element_scene_schema() {
 
 ParameterSchema element_stage_schema() {
   ParameterSchema s;
-  s.choice("type", path_names()).doc(
+  s.choice("type", element_path_names()).doc(
       "isotropic: equal normal strains; oedometer: axial strain, no lateral strain; drained_triaxial: axial "
       "strain at the lateral stress of the stage's start; undrained_triaxial: axial strain at constant volume; "
       "stress_controlled: axial and lateral stresses driven to p and q, or to eta along the drained path (held "

@@ -20,9 +20,6 @@ namespace suffuse {
 
 namespace {
 
-const char* const path_names[] = {"isotropic", "oedometer", "drained_triaxial", "undrained_triaxial",
-                                  "stress_controlled"};
-
 // Control of one increment of a triaxial-type path: each normal component
 // (xx, yy, zz; y is the axial direction) has either a strain increment or a
 // target stress (tension positive); shear strains stay zero.
@@ -48,6 +45,7 @@ class Sample {
           if (!points_.find(f))
             points_.add_field({f, FieldKind::Scalar, "-", "provided by the element test", !f.ends_with("_increment")});
     }
+    first_own_ = points_.field_count();
     phase_.add_fields(points_);
     points_.append(1);
     double* s = stress();
@@ -59,6 +57,12 @@ class Sample {
   const tensor::Voigt& strain() const { return strain_; }
   double field(const std::string& name) const { return points_.data(points_.id(name))[0]; }
 
+  // Zeroes the "_increment" fields the test provides: an increment without
+  // inputs changes none of them.
+  void clear_input_increments() {
+    for (FieldId f = first_reported_; f < first_own_; ++f)
+      if (points_.info(f).name.ends_with("_increment")) points_.data(f)[0] = 0;
+  }
   // Sets an input field for the next increment and its "_increment" field
   // (if the phase reads it) to the change.
   void set_input(const std::string& name, double value) {
@@ -167,7 +171,7 @@ class Sample {
  private:
   PointSet points_;
   detail::MaterialPhase phase_;
-  FieldId first_reported_ = 0;
+  FieldId first_reported_ = 0, first_own_ = 0;  // the test's fields: [first_reported_, first_own_)
   tensor::Voigt strain_{};
 };
 
@@ -202,11 +206,12 @@ std::string ElementEvent::message() const {
   std::ostringstream m;
   m.precision(6);
   if (failure)
-    m << "path stage " << stage << ": failure at increment " << increment
-      << ": the stress cannot be held (the sample collapses); the last increment carried had";
+    m << "path stage " << stage << ": failure at row " << increment << " (the CSV's increment): "
+      << (reason.empty() ? "the stress cannot be held (the sample collapses)" : reason)
+      << "; the last increment carried had";
   else
-    m << "path stage " << stage << ": " << limit.field << " reached " << limit.value << " at increment " << increment
-      << ", with";
+    m << "path stage " << stage << ": " << limit.field << " reached " << limit.value << " at row " << increment
+      << " (the CSV's increment), with";
   for (const auto& [name, value] : at)
     if (name != limit.field &&
         (name == "eps_v" || name == "eps_s" || std::find(inputs.begin(), inputs.end(), name) != inputs.end()))
@@ -246,10 +251,11 @@ ElementResult run_element_test(const ElementScene& scene, std::size_t index, con
     for (int i = 0; i < stage.increments; ++i) {
       ++increment;
       auto where = [&] {
-        return "path stage " + std::to_string(k) + " (" + path_names[static_cast<int>(stage.path)] + "), increment " +
+        return "path stage " + std::to_string(k) + " (" + element_path_names()[static_cast<std::size_t>(stage.path)] + "), increment " +
                std::to_string(i + 1) + " of " + std::to_string(stage.increments);
       };
       const double along = static_cast<double>(i + 1) / stage.increments;
+      sample.clear_input_increments();
       for (std::size_t j = 0; j < stage.inputs.size(); ++j)
         sample.set_input(stage.inputs[j].field, input0[j] + along * (stage.inputs[j].end_value - input0[j]));
       NormalControl control;
@@ -268,7 +274,15 @@ ElementResult run_element_test(const ElementScene& scene, std::size_t index, con
           break;
         }
       }
-      if (!sample.apply(control)) {
+      bool carried = false;
+      std::string why;
+      try {
+        carried = sample.apply(control);
+      } catch (const Error& e) {  // the phase gave up (a return mapping, an inadmissible state)
+        if (stage.until.empty()) throw Error(where() + ": failure: " + e.what());
+        why = e.what();
+      }
+      if (!carried) {
         // A stage watching for a limit (a runaway) ends the case at a
         // collapse as well: the values of the last increment it carried.
         if (!stage.until.empty()) {
@@ -276,6 +290,7 @@ ElementResult run_element_test(const ElementScene& scene, std::size_t index, con
           for (std::size_t n = 0; n < names.size(); ++n) event.at.emplace_back(names[n], previous[n]);
           for (const ElementInput& in : stage.inputs) event.inputs.push_back(in.field);
           event.failure = true;
+          event.reason = why;
           result.events.push_back(std::move(event));
           return result;
         }

@@ -12,6 +12,10 @@ Reactions::Reactions(const std::vector<ReactionSpec>& specs, int dim, double dam
   for (const ReactionSpec& s : specs) records_.push_back({s.condition, s.name});
 }
 
+void Reactions::start_constraints(const NodeState& nodes) {
+  if (!records_.empty()) free_.assign(nodes.velocity.begin(), nodes.velocity.end());
+}
+
 void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, const GridGeometry& grid, NodeState& nodes,
                           double time, double dt) {
   const auto record = std::find_if(records_.begin(), records_.end(), [&](const Record& r) { return r.condition == b; });
@@ -27,8 +31,8 @@ void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, const Grid
     const double m = nodes.mass[I];
     if (m <= 0) continue;
     for (int i = 0; i < D; ++i) {
-      const double v = nodes.velocity[I * D + i], free = before_[I * D + i];
-      if (v == free) continue;
+      const double v = nodes.velocity[I * D + i], free = free_[I * D + i];
+      if (v == before_[I * D + i]) continue;  // not this condition's
       // The node's unbalanced force without the (numerical) local damping:
       // the reaction balances that force, not the damping's.
       const double v_old = nodes.momentum[I * D + i] / m;

@@ -15,6 +15,10 @@
 // not counted.
 // The displacement along an axis is the time integral of the mass-weighted
 // mean velocity of the nodes whose velocity the condition changed along it.
+// Two conditions that hold the same component of a node both count its
+// reaction there. In saturated runs the skeleton's nodal force is the
+// mixture's (effective stress and pore pressure): the reaction is the total
+// force on the soil.
 #include <array>
 #include <iosfwd>
 #include <string>
@@ -30,6 +34,8 @@ class Reactions {
   Reactions(const std::vector<ReactionSpec>& specs, int dim, double damping);
 
   bool empty() const { return records_.empty(); }
+  // Before the step's first constraint: the free velocities of the grid update.
+  void start_constraints(const NodeState& nodes);
   // Condition `b` constrains the nodes' velocities; if its reaction is
   // recorded, what it changed over the step `dt` is measured.
   void constrain(std::size_t b, const BoundaryCondition& bc, const GridGeometry& grid, NodeState& nodes,
@@ -50,7 +56,8 @@ class Reactions {
   int dim_;
   double damping_;  // the scene's local damping, taken out of the reactions
   std::vector<Record> records_;
-  std::vector<double> before_;  // nodal velocities before the constraint
+  std::vector<double> free_;    // nodal velocities of the grid update, before any constraint
+  std::vector<double> before_;  // nodal velocities before this condition's constraint
 };
 
 }  // namespace suffuse::detail

@@ -11,8 +11,8 @@ namespace {
 ParameterSchema boundary_condition_schema() {
   ParameterSchema s;
   s.string("reaction").may_be_absent().doc(
-      "Record this condition's reaction under this name: the force its velocity constraints exert on the "
-      "skeleton (N, per metre of thickness in 2D) and the mean displacement of the nodes they hold, in "
+      "Record this condition's reaction under this name: the force its velocity constraints exert on the soil "
+      "(N, per metre of thickness in 2D; in saturated runs the total force, pore pressure included) and the mean displacement of the nodes they hold, in "
       "<scene>.reactions.csv (for example the load-settlement curve of a footing)");
   return s;
 }

@@ -20,6 +20,8 @@
 namespace suffuse {
 
 enum class ElementPath { isotropic, oedometer, drained_triaxial, undrained_triaxial, stress_controlled };
+// The stage types' names in scenes, in the order of ElementPath.
+const std::vector<std::string>& element_path_names();
 
 // A field the phase reads (a coupling field such as the eroded fraction),
 // ramped linearly over a stage from its value at the stage's start to
@@ -72,11 +74,12 @@ struct ElementScene {
 // increment before, and the case ends there.
 struct ElementEvent {
   std::size_t stage;
-  int increment;  // the first increment at or past the limit, or the one that failed
+  int increment;  // the CSV's increment (counted over all stages) at or past the limit, or the one that failed
   ElementLimit limit;
   std::vector<std::pair<std::string, double>> at;
   std::vector<std::string> inputs;  // the stage's input fields, named in message()
   bool failure = false;
+  std::string reason;  // of a failure: the phase's error, if it raised one
   std::string message() const;
 };
 

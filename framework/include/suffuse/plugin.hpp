@@ -84,7 +84,8 @@ struct PluginArgs {
   std::string instance;       // JSON pointer of the scene node, for messages
   // A phase that wraps another (static constexpr bool wraps_base_phase =
   // true): the base phase of the scene node's "base", built and owned by the
-  // core, its fields already registered. Null for every other plugin.
+  // core, which registers the base's fields just before the wrapper's
+  // add_fields(). Null for every other plugin.
   const Phase* base = nullptr;
 };
 

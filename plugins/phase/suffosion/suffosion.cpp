@@ -82,7 +82,7 @@ class Suffosion final : public suffuse::Phase {
         "surface p' tends to zero and eta to infinity)");
     s.number("initial_void_ratio").with_unit("-").above(0).may_be_absent().doc(
         "e_0, for a base that tracks no void ratio (phase/mohr_coulomb): the phase then reports void_ratio. A base "
-        "that tracks one (phase/modified_cam_clay) gives e_0 at each point");
+        "that tracks one (phase/modified_cam_clay) gives e_0 at each point, and this is not used");
     return s;
   }
 
@@ -96,7 +96,8 @@ class Suffosion final : public suffuse::Phase {
              a.params.number("critical_ratio"),      a.params.number("compaction_rate"),
              a.params.number("compaction_exponent"), a.params.number("dilatancy_factor"),
              a.params.number("stress_ratio_limit")},
-        e0_given_(a.params.maybe_number("initial_void_ratio")) {
+        e0_given_(a.params.maybe_number("initial_void_ratio")),
+        where_(a.instance) {
     if (!base_) throw suffuse::Error(a.instance + ": phase/suffosion needs a base phase (\"base\")");
   }
 
@@ -113,15 +114,15 @@ class Suffosion final : public suffuse::Phase {
                             "erosion-induced shear strain eps_s, accumulated (increments summed)", true});
     onset_ = points.add_field({"suffosion_onset", K::Scalar, "-",
                                "f_so(eta) at the last step: the eroded fraction at which erosion deforms the point", true});
-    e0_ = points.add_field({"initial_void_ratio", K::Scalar, "-", "e_0 of the void-ratio identity", false});
-    // The base's void ratio if it tracks one; else the phase's own, if e_0 is given.
-    if (const auto e = points.find("void_ratio")) {
-      e_ = *e;
-      psi_ = points.find("state_parameter");
-    } else if (e0_given_) {
+    e0_ = points.add_field({"initial_void_ratio", K::Scalar, "-", "e_0 of the void-ratio identity (0: none)", false});
+    base_e_ = points.add_field(
+        {"base_tracks_void_ratio", K::Scalar, "-", "1 where the base phase tracks the void ratio", false});
+    // Fields are shared by name across materials: whether the base tracks
+    // "void_ratio" is known once it has initialised its points.
+    e_ = points.find("void_ratio");
+    if (!e_ && e0_given_)
       e_ = points.add_field({"void_ratio", K::Scalar, "-", "void ratio e, with the fines lost", true});
-      own_void_ratio_ = true;
-    }
+    psi_ = points.find("state_parameter");
   }
 
   void initialise(suffuse::PointSet& points, suffuse::PointRange range) const override {
@@ -131,15 +132,21 @@ class Suffosion final : public suffuse::Phase {
     if (!e_) return;
     double* e = points.data(*e_);
     double* e0 = points.data(e0_);
+    double* base_e = points.data(base_e_);
     for (std::size_t p = range.begin; p < range.end; ++p) {
-      if (own_void_ratio_) e[p] = *e0_given_;
+      // A base that tracks the void ratio wrote a positive one; else the
+      // phase's own e_0, if given; else none (e_0 = 0: the point is skipped).
+      base_e[p] = e[p] > 0 ? 1.0 : 0.0;
+      if (!(e[p] > 0)) e[p] = e0_given_.value_or(0.0);
       e0[p] = e[p];
     }
   }
 
   bool writes_eigenstrain() const override { return true; }
 
+  // The base's own eigenstrain, if it writes one, plus the erosion-induced one.
   void eigenstrain(const suffuse::StressBatch& b, std::span<double> increment) const override {
+    if (base_->writes_eigenstrain()) base_->eigenstrain(b, increment);
     suffuse::PointSet& pts = b.points;
     const double* stress = pts.data(pts.core().stress);
     const double* f = pts.data(f_);
@@ -162,7 +169,7 @@ class Suffosion final : public suffuse::Phase {
       // Tension positive: -d_ev/3 I, and d_es along the deviator (3/2 s/q has eps_s 1).
       const t::Voigt dev = t::deviator(s);
       double* inc = increment.data() + (p - b.range.begin) * 6;
-      for (int c = 0; c < 6; ++c) inc[c] = (c < 3 ? -d_ev / 3 : 0.0) + (q > 0 ? 1.5 * d_es * dev[c] / q : 0.0);
+      for (int c = 0; c < 6; ++c) inc[c] += (c < 3 ? -d_ev / 3 : 0.0) + (q > 0 ? 1.5 * d_es * dev[c] / q : 0.0);
     }
   }
 
@@ -173,12 +180,17 @@ class Suffosion final : public suffuse::Phase {
     const double* strain = pts.data(pts.core().strain);
     const double* f = pts.data(f_);
     const double* e0 = pts.data(e0_);
+    const double* base_e = pts.data(base_e_);
     double* e = pts.data(*e_);
     double* psi = psi_ ? pts.data(*psi_) : nullptr;
     for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
+      if (!(e0[p] > 0)) continue;  // no void ratio tracked here
+      if (!(f[p] < 1))
+        throw suffuse::Error(where_ + " (phase/suffosion): material point " + std::to_string(p) +
+                             " has lost all its solid (eroded fraction " + std::to_string(f[p]) + ")");
       // The void-ratio identity, with the accumulated volumetric strain.
       const double e_new = (1 + e0[p]) * std::exp(-t::volumetric_strain(strain + p * 6)) / (1 - f[p]) - 1;
-      if (psi) psi[p] += e_new - e[p];  // e_cs(p') is the base's: only e moved
+      if (psi && base_e[p] > 0) psi[p] += e_new - e[p];  // e_cs(p') is the base's: only e moved
       e[p] = e_new;
     }
   }
@@ -193,9 +205,9 @@ class Suffosion final : public suffuse::Phase {
   const suffuse::Phase* base_;
   SuffosionLaw law_;
   std::optional<double> e0_given_;
-  suffuse::FieldId f_ = 0, df_ = 0, ev_ = 0, es_ = 0, onset_ = 0, e0_ = 0;
+  std::string where_;
+  suffuse::FieldId f_ = 0, df_ = 0, ev_ = 0, es_ = 0, onset_ = 0, e0_ = 0, base_e_ = 0;
   std::optional<suffuse::FieldId> e_, psi_;
-  bool own_void_ratio_ = false;  // the base tracks none: the phase reports e
 };
 
 }  // namespace
