@@ -23,6 +23,7 @@ double onset(double eta) { return eta < M_so ? f_so0 * std::sqrt(1 - eta * eta /
 double compaction_rate(double eta) { return A * (1 - std::pow(eta / M_c, xi)); }
 double dilatancy(double eta) { return (M_c * M_c - eta * eta) / (beta * eta); }
 
+// A CSV of numbers; columns found by the name before their unit.
 struct Rows {
   std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
@@ -32,6 +33,20 @@ struct Rows {
     throw std::logic_error("no column " + name);
   }
 };
+
+Rows parse_csv(const std::string& text) {
+  Rows r;
+  std::stringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  for (std::stringstream h(line); std::getline(h, line, ',');) r.header.push_back(line);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    for (std::stringstream c(line); std::getline(c, line, ',');) row.push_back(std::stod(line));
+    r.rows.push_back(row);
+  }
+  return r;
+}
 
 struct Case {
   Rows csv;
@@ -49,15 +64,7 @@ std::map<std::string, Case> run_example() {
     std::ostringstream out;
     Case one;
     one.result = suffuse::run_element_test(scene, c, registry, out);
-    std::stringstream in(out.str());
-    std::string line;
-    std::getline(in, line);
-    for (std::stringstream h(line); std::getline(h, line, ',');) one.csv.header.push_back(line);
-    while (std::getline(in, line)) {
-      std::vector<double> row;
-      for (std::stringstream r(line); std::getline(r, line, ',');) row.push_back(std::stod(line));
-      one.csv.rows.push_back(row);
-    }
+    one.csv = parse_csv(out.str());
     cases[scene.cases[c].name] = std::move(one);
   }
   return cases;
@@ -399,16 +406,7 @@ TEST(Suffosion, StrainStopsWhenTheErosionStops) {
   const auto scene = suffuse::parse_element_scene(j.dump(), "hold.json", ".", registry, loader);
   std::ostringstream out;
   suffuse::run_element_test(scene, 0, registry, out);
-  Rows r;
-  std::stringstream in(out.str());
-  std::string line;
-  std::getline(in, line);
-  for (std::stringstream h(line); std::getline(h, line, ',');) r.header.push_back(line);
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    for (std::stringstream c(line); std::getline(c, line, ',');) row.push_back(std::stod(line));
-    r.rows.push_back(row);
-  }
+  const Rows r = parse_csv(out.str());
   ASSERT_EQ(r.rows.size(), 21u);
   const double ev = r.at(10, "erosion_volumetric_strain");
   EXPECT_NEAR(ev, compaction_rate(0) * (0.05 - onset(0)), 1e-9) << "eroded past the onset";
