@@ -1,18 +1,9 @@
 // suffuse plot: line charts of CSV columns to PNG, without a display.
 //
-// The Debian VTK 9.1 is built for X only (vtkXOpenGLRenderWindow, no OSMesa or
-// EGL window): without $DISPLAY its vtkRenderWindow aborts, offscreen or not.
-// So the chart is drawn into a vtkGenericOpenGLRenderWindow whose OpenGL
-// context comes from EGL (Mesa's surfaceless platform, a pbuffer of the image
-// size), which needs no X server and no GPU (Mesa falls back to software).
+// The CSV files are read by csv_table.hpp; the chart is drawn with VTK's
+// charts into the offscreen render window of offscreen_render_window.hpp
+// (an EGL context, as Debian's VTK can open only X windows).
 #include "plot.hpp"
-
-// GLEW first: it must come before any other OpenGL header.
-#include <vtk_glew.h>
-
-#define EGL_NO_X11  // keep Xlib's macros (None, Bool, Status) out
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
 
 #include <vtkAxis.h>
 #include <vtkChartLegend.h>
@@ -21,15 +12,11 @@
 #include <vtkContextView.h>
 #include <vtkDoubleArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
-#include <vtkLogger.h>
 #include <vtkNew.h>
-#include <vtkObjectFactory.h>
-#include <vtkOutputWindow.h>
 #include <vtkPNGWriter.h>
 #include <vtkPen.h>
 #include <vtkPlot.h>
 #include <vtkRenderer.h>
-#include <vtkSmartPointer.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
 #include <vtkTextRenderer.h>
@@ -39,123 +26,22 @@
 #include <array>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <iostream>
 #include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 #include <suffuse/error.hpp>
 #include <system_error>
+#include <utility>
+
+#include "csv_table.hpp"
+#include "offscreen_render_window.hpp"
 
 namespace suffuse::plot {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// ---------------------------------------------------------------- CSV input
-
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return "";
-  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
-}
-
-// One line of comma-separated cells; a cell may be quoted ("a, b", "say ""x""").
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cells.back() += '"', ++i;
-      else if (c == '"') quoted = false;
-      else cells.back() += c;
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      cells.emplace_back();
-    } else {
-      cells.back() += c;
-    }
-  }
-  for (auto& cell : cells) cell = trim(cell);
-  return cells;
-}
-
-struct CsvFile {
-  fs::path path;
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;
-  std::vector<std::size_t> line_numbers;  // of each row in the file, from 1 (the header is line 1)
-};
-
-CsvFile read_csv(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error("cannot read " + path.string() + ": no such file");
-  if (fs::is_directory(path, ec)) throw Error("cannot read " + path.string() + ": it is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read " + path.string());
-  CsvFile csv{path, {}, {}, {}};
-  std::string line;
-  std::size_t number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (trim(line).empty()) continue;
-    if (csv.header.empty()) {
-      if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
-      csv.header = split_csv_line(line);
-      continue;
-    }
-    csv.rows.push_back(split_csv_line(line));
-    csv.line_numbers.push_back(number);
-  }
-  if (in.bad()) throw Error("cannot read " + path.string());
-  if (csv.header.empty()) throw Error(path.string() + " is empty (a header row and data rows were expected)");
-  if (csv.rows.empty()) throw Error(path.string() + " has a header but no data rows");
-  return csv;
-}
-
-std::string list_columns(const std::vector<std::string>& header) {
-  std::string s;
-  for (const auto& h : header) s += (s.empty() ? "" : ", ") + ("'" + h + "'");
-  return s;
-}
-
-// The column NAME matches exactly, or by the part of the header before " [" (its unit).
-std::size_t find_column(const CsvFile& csv, const std::string& name) {
-  for (std::size_t c = 0; c < csv.header.size(); ++c)
-    if (csv.header[c] == name) return c;
-  std::vector<std::size_t> found;
-  for (std::size_t c = 0; c < csv.header.size(); ++c) {
-    const auto bracket = csv.header[c].find(" [");
-    if (bracket != std::string::npos && trim(csv.header[c].substr(0, bracket)) == name) found.push_back(c);
-  }
-  if (found.size() == 1) return found[0];
-  if (found.empty())
-    throw Error(csv.path.string() + " has no column '" + name + "'; its columns are: " + list_columns(csv.header));
-  std::vector<std::string> names;
-  for (auto c : found) names.push_back(csv.header[c]);
-  throw Error("column '" + name + "' is ambiguous in " + csv.path.string() + ": " + list_columns(names) +
-              "; give the whole header");
-}
-
-double parse_cell(const CsvFile& csv, std::size_t row, std::size_t column) {
-  const auto& cells = csv.rows[row];
-  const std::string where = csv.path.string() + ", line " + std::to_string(csv.line_numbers[row]);
-  if (column >= cells.size())
-    throw Error(where + " has " + std::to_string(cells.size()) + " cell(s) but the header has " +
-                std::to_string(csv.header.size()) + "; column '" + csv.header[column] + "' is missing");
-  const std::string& text = cells[column];
-  const char* begin = text.c_str();
-  char* end = nullptr;
-  const double v = std::strtod(begin, &end);
-  if (text.empty() || end != begin + text.size())
-    throw Error(where + ", column '" + csv.header[column] + "': '" + text + "' is not a number");
-  return v;
-}
 
 // ---------------------------------------------------------------- series
 
@@ -263,222 +149,6 @@ LegendCorner choose_corner(const std::vector<Series>& series) {
   return corners[std::min_element(count.begin(), count.end()) - count.begin()];
 }
 
-// ---------------------------------------------------------------- VTK messages
-
-// Collects VTK's errors and warnings (they would otherwise go to the terminal
-// through its logger) so that a failed rendering becomes a suffuse error.
-class CollectingOutputWindow : public vtkOutputWindow {
- public:
-  static CollectingOutputWindow* New();
-  vtkTypeMacro(CollectingOutputWindow, vtkOutputWindow)
-  void DisplayText(const char*) override {}
-  void DisplayErrorText(const char* text) override { errors.push_back(clean(text)); }
-  void DisplayWarningText(const char* text) override { warnings.push_back(clean(text)); }
-  void DisplayGenericWarningText(const char* text) override { warnings.push_back(clean(text)); }
-  void DisplayDebugText(const char*) override {}
-  std::vector<std::string> errors, warnings;
-
- private:
-  // "ERROR: In file.cxx, line N\nvtkClass (0x...): message\n\n" -> "vtkClass: message"
-  static std::string clean(std::string text) {
-    if (text.rfind("ERROR: In ", 0) == 0 || text.rfind("Warning: In ", 0) == 0 ||
-        text.rfind("Generic Warning: In ", 0) == 0) {
-      const auto nl = text.find('\n');
-      if (nl != std::string::npos) text.erase(0, nl + 1);
-    }
-    const auto open = text.find(" (0x");
-    const auto close = text.find("): ", open == std::string::npos ? 0 : open);
-    if (open != std::string::npos && close != std::string::npos) text.erase(open, close + 1 - open);
-    return trim(text.substr(0, text.find_last_not_of('\n') + 1));
-  }
-};
-vtkStandardNewMacro(CollectingOutputWindow)
-
-// Installs a CollectingOutputWindow for its lifetime.
-class VtkMessages {
- public:
-  VtkMessages() : previous_(vtkOutputWindow::GetInstance()) {
-    // VTK's logger would print every error a second time, in colour (for the whole process).
-    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
-    vtkOutputWindow::SetInstance(window_);
-  }
-  ~VtkMessages() { vtkOutputWindow::SetInstance(previous_); }
-  VtkMessages(const VtkMessages&) = delete;
-  VtkMessages& operator=(const VtkMessages&) = delete;
-  // Throws the first error VTK reported, if any.
-  void check(const std::string& what) const {
-    if (!window_->errors.empty()) throw Error(what + ": " + window_->errors.front());
-  }
-  // Prints VTK's warnings, if any.
-  void report_warnings() const {
-    for (const auto& w : window_->warnings) std::cerr << "suffuse: VTK warning: " << w << "\n";
-  }
-
- private:
-  vtkSmartPointer<vtkOutputWindow> previous_;
-  vtkNew<CollectingOutputWindow> window_;
-};
-
-// ---------------------------------------------------------------- EGL context
-
-std::string egl_error() {
-  const EGLint e = eglGetError();
-  switch (e) {
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-    default: {
-      std::ostringstream s;
-      s << "EGL error 0x" << std::hex << e;
-      return s.str();
-    }
-  }
-}
-
-// An OpenGL context on a pbuffer of the image size, from EGL without a window
-// system: Mesa's surfaceless platform, else the first EGL device, else the
-// default display.
-class EglContext {
- public:
-  EglContext(int width, int height) {
-    std::string tried;
-    const char* ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    const std::string client = ext ? ext : "";
-    auto has = [&](const char* name) { return (" " + client + " ").find(std::string(" ") + name + " ") != std::string::npos; };
-    auto get_platform_display =
-        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-
-    std::vector<std::pair<std::string, EGLDisplay>> candidates;
-    if (get_platform_display && has("EGL_MESA_platform_surfaceless"))
-      candidates.emplace_back("surfaceless",
-                              get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
-    if (get_platform_display && has("EGL_EXT_platform_device")) {
-      auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-      EGLDeviceEXT devices[4];
-      EGLint n = 0;
-      if (query_devices && query_devices(4, devices, &n) && n > 0)
-        candidates.emplace_back("device", get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr));
-    }
-    candidates.emplace_back("default display", eglGetDisplay(EGL_DEFAULT_DISPLAY));
-
-    for (const auto& [name, display] : candidates) {
-      if (display == EGL_NO_DISPLAY) {
-        tried += (tried.empty() ? "" : "; ") + name + ": no display";
-        continue;
-      }
-      std::string why;
-      if (open(display, width, height, why)) return;
-      tried += (tried.empty() ? "" : "; ") + name + ": " + why;
-    }
-    throw Error("cannot create an offscreen OpenGL context with EGL (" + tried +
-                "); suffuse plot needs libEGL with Mesa (Debian packages libegl1, libegl-mesa0, libgl1-mesa-dri)");
-  }
-  ~EglContext() { close(); }
-  EglContext(const EglContext&) = delete;
-  EglContext& operator=(const EglContext&) = delete;
-
-  void make_current() const { eglMakeCurrent(display_, surface_, surface_, context_); }
-  bool is_current() const { return context_ != EGL_NO_CONTEXT && eglGetCurrentContext() == context_; }
-
- private:
-  bool open(EGLDisplay display, int width, int height, std::string& why) {
-    EGLint major = 0, minor = 0;
-    if (!eglInitialize(display, &major, &minor)) return why = "eglInitialize: " + egl_error(), false;
-    display_ = display;
-    if (!eglBindAPI(EGL_OPENGL_API)) return why = "no desktop OpenGL: " + egl_error(), close(), false;
-    const EGLint config_attributes[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                        EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8,
-                                        EGL_DEPTH_SIZE, 24, EGL_NONE};
-    EGLConfig config;
-    EGLint configs = 0;
-    if (!eglChooseConfig(display_, config_attributes, &config, 1, &configs) || configs < 1)
-      return why = "no RGBA pbuffer configuration for OpenGL", close(), false;
-    const EGLint surface_attributes[] = {EGL_WIDTH, width, EGL_HEIGHT, height, EGL_NONE};
-    surface_ = eglCreatePbufferSurface(display_, config, surface_attributes);
-    if (surface_ == EGL_NO_SURFACE) return why = "eglCreatePbufferSurface: " + egl_error(), close(), false;
-    // VTK needs OpenGL 3.2; a core profile gets it from every Mesa driver.
-    const EGLint core[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 2,
-                           EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-    context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, core);
-    if (context_ == EGL_NO_CONTEXT) context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, nullptr);
-    if (context_ == EGL_NO_CONTEXT) return why = "eglCreateContext: " + egl_error(), close(), false;
-    if (!eglMakeCurrent(display_, surface_, surface_, context_))
-      return why = "eglMakeCurrent: " + egl_error(), close(), false;
-    return true;
-  }
-  void close() {
-    if (display_ == EGL_NO_DISPLAY) return;
-    eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
-    if (surface_ != EGL_NO_SURFACE) eglDestroySurface(display_, surface_);
-    eglTerminate(display_);
-    display_ = EGL_NO_DISPLAY, surface_ = EGL_NO_SURFACE, context_ = EGL_NO_CONTEXT;
-  }
-  EGLDisplay display_ = EGL_NO_DISPLAY;
-  EGLSurface surface_ = EGL_NO_SURFACE;
-  EGLContext context_ = EGL_NO_CONTEXT;
-};
-
-// A VTK render window drawing into an EglContext.
-class EglRenderWindow : public vtkGenericOpenGLRenderWindow {
- public:
-  static EglRenderWindow* New();
-  vtkTypeMacro(EglRenderWindow, vtkGenericOpenGLRenderWindow)
-
-  void attach(const EglContext* context) {
-    context_ = context;
-    this->SetReadyForRendering(context != nullptr);
-  }
-  void MakeCurrent() override {
-    if (context_) context_->make_current();
-  }
-  bool IsCurrent() override { return context_ && context_->is_current(); }
-  // As vtkOpenGLRenderWindow's, but GLEW built for GLX (Debian's) reports
-  // GLEW_ERROR_NO_GLX_DISPLAY under EGL after it has loaded every OpenGL entry
-  // point; only its GLX extensions are missing, which VTK does not use here.
-  void OpenGLInitContext() override {
-    this->ContextCreationTime.Modified();
-    if (this->Initialized) return;
-    const GLenum result = glewInit();
-    if (result != GLEW_OK && result != GLEW_ERROR_NO_GLX_DISPLAY) {
-      vtkErrorMacro("GLEW could not be initialized: " << reinterpret_cast<const char*>(glewGetErrorString(result)));
-      return;
-    }
-    if (!GLEW_VERSION_3_2 && !GLEW_VERSION_3_1) {
-      vtkErrorMacro("the EGL context has no OpenGL 3.2 (" << reinterpret_cast<const char*>(glGetString(GL_VERSION))
-                                                           << ")");
-      return;
-    }
-    this->GlewInitValid = true;
-    this->Initialized = true;
-    GLfloat range[2];
-    this->MaximumHardwareLineWidth = 1.0;
-    glGetFloatv(this->LineSmoothing ? GL_SMOOTH_LINE_WIDTH_RANGE : GL_ALIASED_LINE_WIDTH_RANGE, range);
-    if (glGetError() == GL_NO_ERROR) this->MaximumHardwareLineWidth = range[1];
-  }
-
- protected:
-  EglRenderWindow() = default;
-  ~EglRenderWindow() override {
-    // Free VTK's OpenGL objects while the context is still there.
-    if (context_) {
-      context_->make_current();
-      this->Finalize();
-    }
-  }
-
- private:
-  const EglContext* context_ = nullptr;
-};
-vtkStandardNewMacro(EglRenderWindow)
-
 // Colours that stay apart on white (Tableau 10); after ten lines the dash changes.
 constexpr std::array<std::array<unsigned char, 3>, 10> palette{{{31, 119, 180},
                                                                  {255, 127, 14},
@@ -532,15 +202,9 @@ bool fit_text(vtkTextProperty* t, const std::string& text, double length, int dp
 // Draws the series and writes the PNG to FILE.
 void render(const std::vector<Series>& series, const PlotOptions& o, const std::string& xlabel,
             const std::string& ylabel, const fs::path& file) {
-  VtkMessages messages;
-  EglContext context(o.width, o.height);
-
-  vtkNew<EglRenderWindow> window;
-  window->attach(&context);
-  window->SetSize(o.width, o.height);
-  window->SetOffScreenRendering(1);
-  window->SetMultiSamples(8);
-  window->InitializeFromCurrentContext();
+  render::VtkMessages messages;
+  render::OffscreenRenderWindow offscreen(o.width, o.height);
+  vtkGenericOpenGLRenderWindow* window = offscreen.window();
   messages.check("cannot initialise OpenGL");
 
   {
