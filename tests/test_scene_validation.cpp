@@ -10,6 +10,8 @@
 
 #include "suffuse/diagnostics.hpp"
 #include "suffuse/scene.hpp"
+#include <suffuse/element_test.hpp>
+
 #include "test_support.hpp"
 
 namespace {
@@ -558,6 +560,35 @@ TEST(SceneValidation, MissingPluginPathIsADiagnostic) {
   expect_diagnostic(diags[0], {"/plugin_paths/0", "no such file or directory", "a plugin library or a directory of them",
                                std::string(SUFFUSE_SOURCE_DIR) + "/no/such/dir", "core (scene)"});
   EXPECT_EQ(diags[1].pointer, "/time/end");
+}
+
+}  // namespace
+
+namespace {
+
+// Deeply nested JSON is refused before it is parsed (200,000 nested arrays
+// crashed `suffuse validate` with a segmentation fault); brackets inside
+// strings do not count.
+TEST(SceneValidation, DeepNestingIsRefusedBeforeParsing) {
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  for (const bool element : {false, true}) {
+    suffuse::Registry registry;
+    suffuse::PluginLoader loader(registry);
+    try {
+      if (element)
+        suffuse::parse_element_scene(deep, "deep.json", ".", registry, loader);
+      else
+        suffuse::parse_scene(deep, "deep.json", ".", registry, loader);
+      ADD_FAILURE() << "accepted";
+    } catch (const suffuse::SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("nested too deeply"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("at most 64 levels"), std::string::npos) << e.what();
+    }
+  }
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  j["description"] = std::string(1000, '[') + " brackets in a string " + std::string(1000, '{');
+  suffuse::Registry registry;
+  EXPECT_NO_THROW(suffuse::test::scene_from(j, registry));
 }
 
 }  // namespace

@@ -182,12 +182,7 @@ ParameterSchema element_stage_schema() {
 
 ElementScene parse_element_scene(const std::string& text, const std::string& name, const fs::path& base_dir,
                                  Registry& registry, PluginLoader& loader) {
-  Json root;
-  try {
-    root = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw SceneError(name, {{"", "not valid JSON", "a JSON object", e.what(), "core"}});
-  }
+  const Json root = detail::parse_scene_text(text, name);
   detail::SceneReader r(root, registry, detail::load_plugins_of(root, base_dir, loader));
   r.skipped_libraries = loader.warnings();
   r.dim = 3;
@@ -240,11 +235,8 @@ ElementScene parse_element_scene(const std::string& text, const std::string& nam
 }
 
 ElementScene load_element_scene(const fs::path& file, Registry& registry, PluginLoader& loader) {
-  std::ifstream in(file);
-  if (!in) throw Error("cannot read scene file " + file.string());
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_element_scene(text.str(), file.string(), fs::absolute(file).parent_path(), registry, loader);
+  return parse_element_scene(detail::read_scene_file(file), file.string(), fs::absolute(file).parent_path(), registry,
+                             loader);
 }
 
 }  // namespace suffuse

@@ -198,12 +198,7 @@ std::vector<CoreSection> core_sections() {
 
 Scene parse_scene(const std::string& text, const std::string& name, const fs::path& base_dir, Registry& registry,
                   PluginLoader& loader) {
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw SceneError(name, {{"", "not valid JSON", "a JSON object", e.what(), "core"}});
-  }
+  const json root = detail::parse_scene_text(text, name);
   // Plugins first: their schemas are needed to validate the rest.
   std::vector<Diagnostic> path_errors = detail::load_plugins_of(root, base_dir, loader);
   Scene scene = detail::read_scene(root, registry, name, std::move(path_errors), loader.warnings());
@@ -212,11 +207,8 @@ Scene parse_scene(const std::string& text, const std::string& name, const fs::pa
 }
 
 Scene load_scene(const fs::path& file, Registry& registry, PluginLoader& loader) {
-  std::ifstream in(file);
-  if (!in) throw Error("cannot read scene file " + file.string());
-  std::stringstream text;
-  text << in.rdbuf();
-  Scene scene = parse_scene(text.str(), file.string(), fs::absolute(file).parent_path(), registry, loader);
+  Scene scene =
+      parse_scene(detail::read_scene_file(file), file.string(), fs::absolute(file).parent_path(), registry, loader);
   scene.file = file;
   scene.name = file.stem().string();
   return scene;

@@ -1,6 +1,8 @@
 #include "validation.hpp"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 namespace suffuse::detail {
 
@@ -128,6 +130,52 @@ Parameters validate_object(const json& node, const ParameterSchema& schema, cons
     }
   }
   return Parameters{std::move(values)};
+}
+
+Json parse_scene_text(const std::string& text, const std::string& name) {
+  auto refuse = [&](const std::string& problem, const std::string& expected, const std::string& found) {
+    return SceneError(name, {{"", problem, expected, found, "core"}});
+  };
+  if (text.size() > max_scene_bytes)
+    throw refuse("file too large", "at most " + std::to_string(max_scene_bytes >> 20) + " MiB",
+                 std::to_string(text.size()) + " bytes");
+  // Nesting depth, outside strings: nlohmann's values nest recursively.
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > max_scene_depth)
+        throw refuse("nested too deeply", "at most " + std::to_string(max_scene_depth) + " levels of arrays and objects",
+                     "more, at byte " + std::to_string(i));
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    throw refuse("not valid JSON", "a JSON object", e.what());
+  }
+}
+
+std::string read_scene_file(const std::filesystem::path& file) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (!ec && size > max_scene_bytes)
+    throw SceneError(file.string(), {{"", "file too large", "at most " + std::to_string(max_scene_bytes >> 20) + " MiB",
+                                      std::to_string(size) + " bytes", "core"}});
+  std::ifstream in(file);
+  if (!in) throw Error("cannot read scene file " + file.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace suffuse::detail
