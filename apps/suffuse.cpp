@@ -269,7 +269,10 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
   const suffuse::Scene scene = suffuse::load_scene(scene_file, registry, loader);
   suffuse::Simulation sim(scene, registry, threads);
 
-  const bool progress = !quiet && isatty(STDERR_FILENO);
+  // Progress: on a terminal a bar on standard error, redrawn 4 times a second;
+  // otherwise (a log file, a pipe) a plain line on standard output at every
+  // tenth of the simulated time.
+  const bool terminal = !quiet && isatty(STDERR_FILENO);
   if (!quiet) {
     std::cout << "suffuse " << suffuse::framework_version << ": " << scene_file.string() << "\n"
               << "  " << scene.dim << "D grid " << scene.grid_cells[0] << " x " << scene.grid_cells[1];
@@ -296,19 +299,34 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
   suffuse::RunOptions options;
   options.output_dir = output;
   auto last = std::chrono::steady_clock::now();
-  if (progress) {
+  int next_tenth = 1;
+  if (!quiet) {
     options.on_step = [&](const suffuse::Progress& p) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last < std::chrono::milliseconds(250) && p.time < p.end_time) return;
-      last = now;
+      const double share = p.end_time > 0 ? std::min(1.0, p.time / p.end_time) : 1.0;
+      const double rate = p.wall_seconds > 0 ? static_cast<double>(p.step) / p.wall_seconds : 0.0;
       const double left = p.time > 0 ? p.wall_seconds * (p.end_time - p.time) / p.time : NAN;
-      std::fprintf(stderr, "\r  step %zu  t = %.4g s  dt = %.3g s  %zu points  wall %s  left %s   ", p.step, p.time,
-                   p.dt, p.points, format_duration(p.wall_seconds).c_str(), format_duration(left).c_str());
-      std::fflush(stderr);
+      if (terminal) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last < std::chrono::milliseconds(250) && p.time < p.end_time) return;
+        last = now;
+        const int width = 24, filled = static_cast<int>(share * width);
+        std::fprintf(stderr, "\r  [%s%s] %3.0f%%  t = %.4g of %.4g s  %.0f steps/s  left %s   ",
+                     std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), 100 * share, p.time,
+                     p.end_time, rate, format_duration(left).c_str());
+        std::fflush(stderr);
+      } else if (share >= next_tenth / 10.0 - 1e-12) {
+        while (share >= next_tenth / 10.0 - 1e-12) ++next_tenth;
+        // On standard output, in order with the summary a log collects.
+        char line[160];
+        std::snprintf(line, sizeof line, "  %3.0f%%  t = %.4g of %.4g s, step %zu, %.0f steps/s, wall %s, left %s\n",
+                      100 * share, p.time, p.end_time, p.step, rate, format_duration(p.wall_seconds).c_str(),
+                      format_duration(left).c_str());
+        std::cout << line << std::flush;
+      }
     };
   }
   const suffuse::RunSummary s = sim.run(options);
-  if (progress) std::fprintf(stderr, "\n");
+  if (terminal) std::fprintf(stderr, "\n");
   if (!quiet) {
     const auto& t = s.stages;
     std::cout << "done: " << s.steps << " steps to t = " << s.simulated_time << " s in "

@@ -63,7 +63,15 @@ TEST(EndToEnd, BarSceneWritesAReadableSeries) {
   const fs::path out = fresh_dir("bar");
   const fs::path scene = suffuse::test::source_dir() / "share/scenes/elastic_bar.json";
   ASSERT_EQ(run("run " + scene.string() + " --output " + out.string(), out / "log.txt"), 0) << slurp(out / "log.txt");
-  EXPECT_NE(slurp(out / "log.txt").find("million point updates per second"), std::string::npos);
+  const std::string log = slurp(out / "log.txt");
+  EXPECT_NE(log.find("million point updates per second"), std::string::npos);
+  // Not a terminal: a progress line at every tenth of the simulated time,
+  // before the summary.
+  for (const char* tenth : {"   10%  t = 0.012 of 0.12 s, step ", "   50%  t = 0.06 of 0.12 s, step ",
+                            "  100%  t = 0.12 of 0.12 s, step "})
+    EXPECT_NE(log.find(tenth), std::string::npos) << tenth << " in\n" << log;
+  EXPECT_LT(log.find("  100%"), log.find("done:"));
+  EXPECT_NE(log.find("steps/s, wall "), std::string::npos);
 
   const auto frames = read_pvd(out / "elastic_bar.pvd");
   // Initial state plus one frame every 0.002 s up to 0.12 s.
