@@ -420,3 +420,30 @@ TEST(Suffosion, StrainStopsWhenTheErosionStops) {
 }
 
 }  // namespace
+
+namespace {
+
+// A base that writes an eigenstrain of its own keeps it: around the test
+// phase that swells in x and y, held at its stress with erosion below the
+// onset, the sample strains by the swelling alone.
+TEST(Suffosion, KeepsTheBasesOwnEigenstrain) {
+  const double rate = 1e-4;
+  const nlohmann::json j = {
+      {"plugin_paths", {std::string(SUFFUSE_TEST_PLUGIN_DIR) + "/swelling"}},
+      {"material",
+       {{"type", "phase/suffosion"},
+        {"base", {{"type", "phase/test_swelling"}, {"density", 1000.0}, {"youngs_modulus", 1e6}, {"rate", rate}}}}},
+      {"initial_pressure", 10e3},
+      {"path", {{{"type", "stress_controlled"}, {"inputs", {{"eroded_fraction", 0.01}}}, {"increments", 30}}}}};
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const auto scene = suffuse::parse_element_scene(j.dump(), "swelling.json", ".", registry, loader);
+  std::ostringstream out;
+  suffuse::run_element_test(scene, 0, registry, out);
+  const Rows r = parse_csv(out.str());
+  ASSERT_EQ(r.rows.size(), 31u);
+  EXPECT_NEAR(r.at(30, "eps_v"), -60 * rate, 1e-12) << "30 increments of 1 s swelling in x and y";
+  EXPECT_EQ(r.at(30, "erosion_volumetric_strain"), 0.0) << "below the onset";
+}
+
+}  // namespace
