@@ -447,3 +447,56 @@ TEST(Suffosion, KeepsTheBasesOwnEigenstrain) {
 }
 
 }  // namespace
+
+namespace {
+
+// Point fields are shared by name across materials: next to a Modified
+// Cam-Clay body (which tracks "void_ratio"), phase/suffosion around
+// Mohr-Coulomb without initial_void_ratio tracks none, and leaves the
+// field and the Cam-Clay points' state parameter alone.
+TEST(Suffosion, NoVoidRatioBorrowedFromAnotherMaterial) {
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  j["outputs"] = nlohmann::json::array();
+  j["time"]["end"] = 0.02;
+  auto& sand = j["materials"]["gap_graded_sand"];
+  const nlohmann::json mc = {{"type", "phase/mohr_coulomb"}, {"density", 2650.0}, {"youngs_modulus", 1e7},
+                             {"friction_angle", 35.0}, {"cohesion", 5e3}};
+  nlohmann::json clay = {{"type", "phase/modified_cam_clay"}, {"density", 2650.0}, {"lambda", 0.05}, {"kappa", 0.01},
+                         {"critical_state_ratio", 1.2}, {"N", 2.0}};
+  clay["permeability"] = sand["permeability"];
+  // The clay first: it registers void_ratio before the wrapper looks for it.
+  nlohmann::ordered_json materials;
+  materials["clay"] = clay;
+  materials["gap_graded_sand"] = {
+      {"type", "phase/suffosion"}, {"base", mc}, {"permeability", sand["permeability"]}, {"erosion", sand["erosion"]}};
+  j["materials"] = materials;
+  auto clay_body = j["bodies"][0];
+  clay_body["name"] = "clay";
+  clay_body["material"] = "clay";
+  clay_body.erase("fines_content");
+  clay_body.erase("ultimate_fines_content");
+  clay_body["min"] = {0.0, 0.0};
+  clay_body["max"] = {0.02, 0.4};
+  j["bodies"][0]["min"] = {0.02, 0.0};
+  j["bodies"].push_back(clay_body);
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  sim.run({});
+  const auto& pts = sim.points();
+  const double* e = pts.data(pts.id("void_ratio"));
+  const double* id = pts.data(pts.core().material_id);
+  std::size_t clay_points = 0;
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    const bool is_clay = scene.materials[static_cast<std::size_t>(id[p])].name == "clay";
+    if (is_clay) {
+      ++clay_points;
+      EXPECT_GT(e[p], 0.3) << "point " << p;
+    } else {
+      EXPECT_EQ(e[p], 0.0) << "point " << p << ": the suffosion material tracks no void ratio";
+    }
+  }
+  EXPECT_GT(clay_points, 0u);
+}
+
+}  // namespace
