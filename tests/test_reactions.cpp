@@ -19,15 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Table {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-  std::size_t column(const std::string& name) const {
-    for (std::size_t k = 0; k < header.size(); ++k)
-      if (header[k] == name) return k;
-    throw std::logic_error("no column " + name);
-  }
-};
+using Table = suffuse::test::CsvTable;
 
 // Runs a scene with its outputs in a scratch directory; its reactions CSV.
 Table run_for_reactions(nlohmann::json j, const std::string& name, int threads = 1) {
@@ -39,19 +31,7 @@ Table run_for_reactions(nlohmann::json j, const std::string& name, int threads =
   fs::remove_all(dir);
   suffuse::Simulation sim(scene, registry, threads);
   sim.run({dir, {}});
-  std::ifstream in(dir / (name + ".reactions.csv"));
-  Table t;
-  std::string line;
-  std::getline(in, line);
-  std::stringstream h(line);
-  for (std::string cell; std::getline(h, cell, ',');) t.header.push_back(cell);
-  while (std::getline(in, line)) {
-    std::stringstream s(line);
-    std::vector<double> row;
-    for (std::string cell; std::getline(s, cell, ',');) row.push_back(std::stod(cell));
-    t.rows.push_back(row);
-  }
-  return t;
+  return suffuse::test::read_csv(dir / (name + ".reactions.csv"));
 }
 
 // An elastic column 0.2 m wide and 1 m high between rollers, its top pushed

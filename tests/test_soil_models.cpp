@@ -61,14 +61,7 @@ double mc_yield(const double* s, double phi, double c) {  // tension positive, s
 
 // The rows of an element test (suffuse element): one point of `material`
 // from the isotropic p'_0 along `path`, read back from its CSV.
-struct ElementRows {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-  double at(std::size_t row, const std::string& name) const {
-    const auto k = std::find(header.begin(), header.end(), name) - header.begin();
-    return rows[row][k];
-  }
-};
+using ElementRows = suffuse::test::CsvTable;
 
 ElementRows element_test(const nlohmann::json& material, double p0, const nlohmann::json& path) {
   const nlohmann::json j = {{"description", "test"}, {"material", material}, {"initial_pressure", p0}, {"path", path}};
@@ -77,17 +70,7 @@ ElementRows element_test(const nlohmann::json& material, double p0, const nlohma
   const auto scene = suffuse::parse_element_scene(j.dump(), "test.json", ".", registry, loader);
   std::ostringstream csv;
   suffuse::run_element_test(scene, 0, registry, csv);
-  ElementRows out;
-  std::stringstream in(csv.str());
-  std::string line;
-  std::getline(in, line);
-  for (std::stringstream h(line); std::getline(h, line, ',');) out.header.push_back(line);
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    for (std::stringstream r(line); std::getline(r, line, ',');) row.push_back(std::stod(line));
-    out.rows.push_back(row);
-  }
-  return out;
+  return suffuse::test::parse_csv(csv.str());
 }
 
 const nlohmann::json sand = {{"density", 2000.0}, {"youngs_modulus", 2e7}, {"poisson_ratio", 0.3},

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -23,30 +24,8 @@ double onset(double eta) { return eta < M_so ? f_so0 * std::sqrt(1 - eta * eta /
 double compaction_rate(double eta) { return A * (1 - std::pow(eta / M_c, xi)); }
 double dilatancy(double eta) { return (M_c * M_c - eta * eta) / (beta * eta); }
 
-// A CSV of numbers; columns found by the name before their unit.
-struct Rows {
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-  double at(std::size_t r, const std::string& name) const {
-    for (std::size_t k = 0; k < header.size(); ++k)
-      if (header[k].substr(0, header[k].find(' ')) == name) return rows[r][k];
-    throw std::logic_error("no column " + name);
-  }
-};
-
-Rows parse_csv(const std::string& text) {
-  Rows r;
-  std::stringstream in(text);
-  std::string line;
-  std::getline(in, line);
-  for (std::stringstream h(line); std::getline(h, line, ',');) r.header.push_back(line);
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    for (std::stringstream c(line); std::getline(c, line, ',');) row.push_back(std::stod(line));
-    r.rows.push_back(row);
-  }
-  return r;
-}
+using Rows = suffuse::test::CsvTable;
+using suffuse::test::parse_csv;
 
 struct Case {
   Rows csv;
@@ -184,6 +163,15 @@ TEST(Suffosion, RunawayNearTheCriticalStressRatio) {
 
 namespace {
 
+// Steps `sim` to `end`, calling `record` at the start and every `every` steps.
+void step_recording(suffuse::Simulation& sim, double end, int every, const std::function<void()>& record) {
+  record();
+  while (sim.time() < end - 1e-9) {
+    for (int k = 0; k < every && sim.time() < end - 1e-9; ++k) sim.step();
+    record();
+  }
+}
+
 // The suffusion column (share/scenes/suffusion_column.json) under a 50 kPa
 // surcharge, isotropically stressed (k0 = 1, so eta is near 0 and the onset
 // near f_so0 = 2%), with a Mohr-Coulomb skeleton of Poisson's ratio 0 (its
@@ -247,11 +235,7 @@ std::vector<Record> run_column(bool suffosion, double end, int every) {
     r.top /= n;
     records.push_back(r);
   };
-  record();
-  while (sim.time() < end - 1e-9) {
-    for (int k = 0; k < every && sim.time() < end - 1e-9; ++k) sim.step();
-    record();
-  }
+  step_recording(sim, end, every, record);
   return records;
 }
 
@@ -327,11 +311,7 @@ std::vector<LeveeRecord> run_levee(const nlohmann::json& j, int every) {
     r.past_onset /= foundation;
     out.push_back(r);
   };
-  record();
-  while (sim.time() < end - 1e-9) {
-    for (int k = 0; k < every && sim.time() < end - 1e-9; ++k) sim.step();
-    record();
-  }
+  step_recording(sim, end, every, record);
   return out;
 }
 

@@ -68,4 +68,38 @@ inline Scene scene_from(const nlohmann::json& j, Registry& registry) {
   return parse_scene(j.dump(), "test.json", source_dir(), registry, loader);
 }
 
+// A CSV of numbers: a header row, then rows. A column is found by its whole
+// header ("p [Pa]") or by the name before its unit ("p").
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  std::size_t column(const std::string& name) const {
+    for (std::size_t k = 0; k < header.size(); ++k)
+      if (header[k] == name || header[k].substr(0, header[k].find(" [")) == name) return k;
+    throw std::logic_error("no column " + name);
+  }
+  double at(std::size_t row, const std::string& name) const { return rows[row][column(name)]; }
+};
+
+inline CsvTable parse_csv(const std::string& text) {
+  CsvTable t;
+  std::stringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  for (std::stringstream h(line); std::getline(h, line, ',');) t.header.push_back(line);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    for (std::stringstream c(line); std::getline(c, line, ',');) row.push_back(std::stod(line));
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
+inline CsvTable read_csv(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return parse_csv(s.str());
+}
+
 }  // namespace suffuse::test

@@ -157,9 +157,12 @@ class Suffosion final : public suffuse::Phase {
     for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
       const double* s = stress + p * 6;
       const double mean = t::mean_stress(s), q = t::deviatoric_stress(s);
-      const double f_so = onset[p] = onset_at(s);
-      if (!(mean > 0)) continue;  // no confinement: no skeleton stress to deform under
+      if (!(mean > 0)) {  // no confinement: no skeleton stress to deform under
+        onset[p] = 1.0;
+        continue;
+      }
       const double eta = std::min(q / mean, law_.eta_max);
+      const double f_so = onset[p] = law_.onset(eta);
       // The part of this step's erosion beyond the onset (deposition deforms nothing).
       const double active = std::max(0.0, f[p] - std::max(f[p] - df[p], f_so));
       if (active <= 0) continue;
@@ -196,7 +199,8 @@ class Suffosion final : public suffuse::Phase {
   }
 
  private:
-  // f_so at a stress (1 where there is no confinement: nothing to deform).
+  // f_so at a stress (1 where there is no confinement: nothing to deform),
+  // as eigenstrain() finds it.
   double onset_at(const double* s) const {
     const double mean = t::mean_stress(s);
     return mean > 0 ? law_.onset(std::min(t::deviatoric_stress(s) / mean, law_.eta_max)) : 1.0;
