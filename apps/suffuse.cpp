@@ -1,5 +1,5 @@
 // suffuse: the command-line front end.
-//   suffuse run SCENE.json [--output DIR] [--threads N] [--quiet]
+//   suffuse run SCENE.json [--output DIR] [--threads N] [--quiet] [--checkpoint-every S] [--restart FILE]
 //   suffuse validate SCENE.json
 //   suffuse plugins
 //   suffuse describe NAME
@@ -16,6 +16,7 @@
 #include <iostream>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <suffuse/element_test.hpp>
@@ -36,7 +37,9 @@ namespace {
 const char* usage =
     "Usage:\n"
     "  suffuse run SCENE.json [--output DIR] [--threads N] [--quiet]\n"
-    "                         run a scene; outputs go to DIR (default ./output/<scene name>)\n"
+    "                         [--checkpoint-every SECONDS] [--restart CHECKPOINT]\n"
+    "                         run a scene; outputs go to DIR (default ./output/<scene name>);\n"
+    "                         --restart continues a run from DIR/<scene>.checkpoint (a later end time extends it)\n"
     "  suffuse validate SCENE.json   check a scene against the plugin schemas, run nothing\n"
     "  suffuse element SCENE.json [--output DIR] [--quiet]\n"
     "                                drive one point of a phase along a test path (element test);\n"
@@ -260,7 +263,19 @@ int cmd_element(const fs::path& scene_file, const fs::path& output, bool quiet) 
   return 0;
 }
 
-int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, bool quiet) {
+// What `suffuse run` takes besides the scene.
+struct RunCommand {
+  fs::path output;
+  int threads = 1;
+  bool quiet = false;
+  std::optional<double> checkpoint_every;  // [s] of simulated time
+  fs::path restart;                        // a checkpoint to continue from
+};
+
+int cmd_run(const fs::path& scene_file, const RunCommand& command) {
+  const fs::path& output = command.output;
+  const int threads = command.threads;
+  const bool quiet = command.quiet;
 #ifndef SUFFUSE_HAVE_OPENMP
   if (threads != 1) throw suffuse::Error("--threads " + std::to_string(threads) + ": this build has no OpenMP");
 #endif
@@ -294,17 +309,30 @@ int cmd_run(const fs::path& scene_file, const fs::path& output, int threads, boo
     }
     if (!scene.outputs.empty())
       std::cout << "  output: " << output.string() << " (run settings in " << scene.name << ".run.json)\n";
+    if (!command.restart.empty())
+      std::cout << "  continuing the run saved in " << command.restart.string() << "\n";
   }
 
   suffuse::RunOptions options;
   options.output_dir = output;
+  options.checkpoint_interval = command.checkpoint_every;
+  options.restart = command.restart;
   auto last = std::chrono::steady_clock::now();
   int next_tenth = 1;
+  // A restarted run starts at a later step and time: rates count from there.
+  std::optional<std::size_t> first_step;
+  double first_time = 0;
   if (!quiet) {
     options.on_step = [&](const suffuse::Progress& p) {
+      if (!first_step) {
+        first_step = p.step - 1;
+        first_time = p.time - p.dt;
+        while (first_time > 0 && first_time >= next_tenth / 10.0 * p.end_time) ++next_tenth;
+      }
       const double share = p.end_time > 0 ? std::min(1.0, p.time / p.end_time) : 1.0;
-      const double rate = p.wall_seconds > 0 ? static_cast<double>(p.step) / p.wall_seconds : 0.0;
-      const double left = p.time > 0 ? p.wall_seconds * (p.end_time - p.time) / p.time : NAN;
+      const double rate = p.wall_seconds > 0 ? static_cast<double>(p.step - *first_step) / p.wall_seconds : 0.0;
+      const double left =
+          p.time > first_time ? p.wall_seconds * (p.end_time - p.time) / (p.time - first_time) : NAN;
       if (terminal) {
         const auto now = std::chrono::steady_clock::now();
         if (now - last < std::chrono::milliseconds(250) && p.time < p.end_time) return;
@@ -421,7 +449,12 @@ int main(int argc, char** argv) {
     opts.add_options()("help,h", "show this help")("version", "print the version")(
         "output,o", po::value<std::string>(), "output directory (run)")(
         "threads,t", po::value<int>()->default_value(1), "number of threads (run)")(
-        "quiet,q", "no progress line and no summary (run)");
+        "quiet,q", "no progress line and no summary (run)")(
+        "checkpoint-every", po::value<double>(),
+        "simulated seconds between checkpoints, OUTPUT/<scene>.checkpoint (run; default: the scene's "
+        "/time/checkpoint_interval; one is written at the end unless /time/checkpoint_at_end is false)")(
+        "restart", po::value<std::string>(),
+        "continue the run saved in this checkpoint; its outputs continue in the output directory (run)");
     po::options_description hidden;
     hidden.add_options()("command", po::value<std::string>())("argument", po::value<std::string>());
     po::options_description all;
@@ -457,7 +490,14 @@ int main(int argc, char** argv) {
       if (threads < 1) throw suffuse::Error("--threads must be at least 1");
       const fs::path out = vm.count("output") ? fs::path(vm["output"].as<std::string>())
                                               : fs::path("output") / fs::path(arg).stem();
-      return cmd_run(arg, out, threads, vm.count("quiet") != 0);
+      RunCommand run{out, threads, vm.count("quiet") != 0, std::nullopt, {}};
+      if (vm.count("checkpoint-every")) {
+        run.checkpoint_every = vm["checkpoint-every"].as<double>();
+        if (!(*run.checkpoint_every > 0) || !std::isfinite(*run.checkpoint_every))
+          throw suffuse::Error("--checkpoint-every must be a positive number of seconds");
+      }
+      if (vm.count("restart")) run.restart = vm["restart"].as<std::string>();
+      return cmd_run(arg, run);
     }
     if (command == "element") {
       need_arg("an element-test scene file");

@@ -26,17 +26,19 @@ namespace fs = std::filesystem;
 struct Frame {
   double time;
   std::string file;
+  int part;  // the writer's index in /outputs
 };
 
-std::vector<Frame> read_pvd(const fs::path& pvd) {
+// The entries of a .pvd collection; `part`: only that writer's (-1: all).
+std::vector<Frame> read_pvd(const fs::path& pvd, int part = -1) {
   std::ifstream in(pvd);
   std::stringstream s;
   s << in.rdbuf();
   const std::string text = s.str();
   std::vector<Frame> frames;
-  const std::regex dataset(R"re(<DataSet timestep="([^"]+)"[^>]*file="([^"]+)")re");
+  const std::regex dataset(R"re(<DataSet timestep="([^"]+)"[^>]*part="([0-9]+)" file="([^"]+)")re");
   for (auto it = std::sregex_iterator(text.begin(), text.end(), dataset); it != std::sregex_iterator(); ++it)
-    frames.push_back({std::stod((*it)[1]), (*it)[2]});
+    if (part < 0 || std::stoi((*it)[2]) == part) frames.push_back({std::stod((*it)[1]), (*it)[3], std::stoi((*it)[2])});
   return frames;
 }
 
@@ -134,7 +136,7 @@ TEST(EndToEnd, FailingRunLeavesReadableOutput) {
 }
 
 // Frames land on multiples of the interval even after thousands of steps, and
-// two writers do not overwrite each other.
+// two writers do not overwrite each other: each is one part of the series.
 TEST(EndToEnd, OutputScheduleAndSeveralWriters) {
   const fs::path out = fresh_dir("schedule");
   auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
@@ -145,8 +147,8 @@ TEST(EndToEnd, OutputScheduleAndSeveralWriters) {
   ASSERT_EQ(run("run " + (out / "schedule.json").string() + " --output " + out.string() + " --quiet", out / "log.txt"),
             0)
       << slurp(out / "log.txt");
-  const auto fine = read_pvd(out / "schedule_0.pvd");
-  const auto coarse = read_pvd(out / "schedule_1.pvd");
+  const auto fine = read_pvd(out / "schedule.pvd", 0);
+  const auto coarse = read_pvd(out / "schedule.pvd", 1);
   ASSERT_EQ(fine.size(), 101u);
   ASSERT_EQ(coarse.size(), 5u);
   for (std::size_t i = 0; i < fine.size(); ++i) EXPECT_NEAR(fine[i].time, 0.01 * i, 1e-12) << "frame " << i;

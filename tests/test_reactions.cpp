@@ -30,7 +30,9 @@ Table run_for_reactions(nlohmann::json j, const std::string& name, int threads =
   const fs::path dir = fs::temp_directory_path() / ("suffuse_reactions_" + name);
   fs::remove_all(dir);
   suffuse::Simulation sim(scene, registry, threads);
-  sim.run({dir, {}});
+  suffuse::RunOptions options;
+  options.output_dir = dir;
+  sim.run(options);
   return suffuse::test::read_csv(dir / (name + ".reactions.csv"));
 }
 

@@ -2,6 +2,7 @@
 // Helpers shared by the tests: the bundled plugins and scenes built in code.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <span>
@@ -89,7 +90,8 @@ inline CsvTable parse_csv(const std::string& text) {
   for (std::stringstream h(line); std::getline(h, line, ',');) t.header.push_back(line);
   while (std::getline(in, line)) {
     std::vector<double> row;
-    for (std::stringstream c(line); std::getline(c, line, ',');) row.push_back(std::stod(line));
+    // strtod, not stod: round-off in a ledger can be subnormal (1e-314), which stod refuses.
+    for (std::stringstream c(line); std::getline(c, line, ',');) row.push_back(std::strtod(line.c_str(), nullptr));
     t.rows.push_back(row);
   }
   return t;

@@ -84,17 +84,24 @@ void Domain::locate_points(std::size_t step, double time) {
                 "); enlarge /grid or check the boundary conditions and the time step");
   }
   if (average_volumetric_rate_) locate_cells();
+  evaluate_shape(shape);
+}
+
+void Domain::evaluate_shape(Interpolation& out) {
+  const int D = dim();
+  const std::size_t n = points.size();
   const int npp = shape.npp;
-  shape.ids.resize(n * npp);
-  shape.weights.resize(n * npp);
-  shape.gradients.resize(n * npp * D);
+  out.npp = npp;
+  out.ids.resize(n * npp);
+  out.weights.resize(n * npp);
+  out.gradients.resize(n * npp * D);
   const auto xs = points.values(points.core().position);
   const auto sizes = points.values(points.core().size);
   exec.for_chunks(n, [&](int, std::size_t b, std::size_t e) {
     shape_function_->evaluate(grid, xs.subspan(b * D, (e - b) * D), sizes.subspan(b * D, (e - b) * D),
-                              std::span(shape.ids).subspan(b * npp, (e - b) * npp),
-                              std::span(shape.weights).subspan(b * npp, (e - b) * npp),
-                              std::span(shape.gradients).subspan(b * npp * D, (e - b) * npp * D));
+                              std::span(out.ids).subspan(b * npp, (e - b) * npp),
+                              std::span(out.weights).subspan(b * npp, (e - b) * npp),
+                              std::span(out.gradients).subspan(b * npp * D, (e - b) * npp * D));
   });
 }
 

@@ -47,6 +47,9 @@ class Domain {
   // Stage "shape": shape functions at the points' positions. Throws, naming
   // the point and its body, if a point left the grid.
   void locate_points(std::size_t step, double time);
+  // Shape functions at the points' current positions, into `out` (the
+  // step's own are in `shape`; outputs project with their own copy).
+  void evaluate_shape(Interpolation& out);
   // Stage "strain": velocity gradient L from the remapped nodal velocities
   // (its trace averaged over each cell's points where the scene asks for
   // it), strain += sym(L) dt, volume *= det(I + L dt).

@@ -4,6 +4,7 @@
 #include <ostream>
 
 #include "executor.hpp"
+#include "suffuse/error.hpp"
 #include "solid_kernels.hpp"
 
 namespace suffuse::detail {
@@ -70,6 +71,29 @@ void Reactions::write_row(std::ostream& out, double time) {
     r.elapsed = 0;
   }
   out << '\n';
+}
+
+std::vector<double> Reactions::saved_state() const {
+  std::vector<double> state;
+  for (const Record& r : records_) {
+    state.insert(state.end(), r.impulse.begin(), r.impulse.end());
+    state.insert(state.end(), r.displacement.begin(), r.displacement.end());
+    state.push_back(r.elapsed);
+  }
+  return state;
+}
+
+void Reactions::restore_state(const std::vector<double>& state) {
+  if (state.size() != records_.size() * 7)
+    throw Error("checkpoint: " + std::to_string(state.size() / 7) + " reactions saved, the scene records " +
+                std::to_string(records_.size()));
+  auto v = state.begin();
+  for (Record& r : records_) {
+    std::copy(v, v + 3, r.impulse.begin());
+    std::copy(v + 3, v + 6, r.displacement.begin());
+    r.elapsed = v[6];
+    v += 7;
+  }
 }
 
 }  // namespace suffuse::detail

@@ -46,6 +46,10 @@ class Reactions {
   void write_header(std::ostream& out) const;
   void write_row(std::ostream& out, double time);
 
+  // What a checkpoint keeps: each record's impulse, elapsed time and displacement.
+  std::vector<double> saved_state() const;
+  void restore_state(const std::vector<double>& state);  // throws if the size differs
+
  private:
   struct Record {
     std::size_t condition;

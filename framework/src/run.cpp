@@ -9,6 +9,7 @@
 
 #include "domain.hpp"
 #include "reactions.hpp"
+#include "run_outputs.hpp"
 #include "saturated_mixture.hpp"
 #include "species_transport.hpp"
 #include "stage_timer.hpp"
@@ -48,76 +49,46 @@ RunSummary Simulation::run(const RunOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const double end = scene_.end_time;
+  const std::filesystem::path& dir = options.output_dir;
 
-  // Output schedule: every writer writes the initial state, then at multiples
-  // of its interval, and the final state.
-  std::vector<double> interval(writers_.size()), next(writers_.size());
-  if (!writers_.empty()) {
-    std::filesystem::create_directories(options.output_dir);
-    write_run_info(options.output_dir / (scene_.name + ".run.json"));
+  detail::RunOutputs outputs(scene_, writers_, dir, *domain_, species_.get(), *reactions_, *grid_projection_, times_);
+  if (!options.restart.empty()) {
+    const std::vector<std::size_t> frames = load_checkpoint(options.restart);
+    if (clock_.time() >= end)
+      throw Error("cannot restart from " + options.restart.string() + ": it is at t = " +
+                  std::to_string(clock_.time()) + " s, the scene ends at " + std::to_string(end) +
+                  " s; raise /time/end to extend the run");
+    outputs.resume(clock_.time(), frames);
+  } else {
+    outputs.start(clock_.time(), clock_.steps());
   }
-  for (std::size_t w = 0; w < writers_.size(); ++w) {
-    interval[w] = scene_.outputs[w].interval.value_or(end / 20);
-    // One output keeps the scene's name; several get a suffix each.
-    writers_[w]->open(options.output_dir,
-                      writers_.size() == 1 ? scene_.name : scene_.name + "_" + std::to_string(w));
-  }
-  // Saturated runs: the mass ledger; scenes that ask for reactions: their
-  // CSV. A row every end/200 s, flushed so that a run that fails midway
-  // leaves the rows written so far.
-  auto open_csv = [&](std::ofstream& csv, const std::string& suffix) {
-    std::filesystem::create_directories(options.output_dir);
-    const auto file = options.output_dir / (scene_.name + suffix);
-    csv.open(file);
-    if (!csv) throw Error("cannot write " + file.string());
-    csv.precision(10);
+  if (!dir.empty() && (!writers_.empty() || species_ || !reactions_->empty()))
+    write_run_info(dir / (scene_.name + ".run.json"));
+
+  // Checkpoints: at multiples of the interval and at the end, replacing one
+  // file (the run's state is a few times its points' fields).
+  const std::optional<double> checkpoint_interval =
+      options.checkpoint_interval ? options.checkpoint_interval : scene_.checkpoint_interval;
+  const std::filesystem::path checkpoint = dir / (scene_.name + ".checkpoint");
+  auto next_checkpoint = [&](double now) {
+    return checkpoint_interval ? (std::floor((now + 1e-9 * *checkpoint_interval) / *checkpoint_interval) + 1) *
+                                     *checkpoint_interval
+                               : std::numeric_limits<double>::infinity();
   };
-  std::ofstream ledger, reactions;
-  const double ledger_interval = end / 200;
-  double next_ledger = ledger_interval;
-  if (species_ && !options.output_dir.empty()) {
-    open_csv(ledger, ".ledger.csv");
-    species_->write_ledger_row(ledger, clock_.time(), true);
-    ledger.flush();
-  }
-  if (!reactions_->empty() && !options.output_dir.empty()) {
-    open_csv(reactions, ".reactions.csv");
-    reactions_->write_header(reactions);
-    reactions.flush();
-  }
-  auto write = [&](std::size_t w) {
-    detail::StageTimer timer(times_, Stage::output);
-    writers_[w]->write(OutputFrame{domain_->points, domain_->grid, clock_.steps(), clock_.time()});
-  };
-  for (std::size_t w = 0; w < writers_.size(); ++w) {
-    write(w);
-    next[w] = interval[w];
-  }
+  double checkpoint_due = next_checkpoint(clock_.time());
 
   const std::size_t first_step = clock_.steps();
-  const double eps = 1e-9 * clock_.nominal_dt();
   clock_.run_until(end);
   while (!clock_.reached_end()) {
     const double dt = clock_.dt();
     step();
     const double now = clock_.time();
-    for (std::size_t w = 0; w < writers_.size(); ++w) {
-      if (now >= next[w] - eps || now >= end) {
-        write(w);
-        // The next multiple of the interval after now (one frame per step at most).
-        next[w] = (std::floor((now + eps) / interval[w]) + 1) * interval[w];
-      }
-    }
-    if (now >= next_ledger - eps || now >= end) {
-      if (ledger.is_open()) {
-        species_->write_ledger_row(ledger, now, false);
-        ledger.flush();
-      }
-      if (reactions.is_open()) {
-        reactions_->write_row(reactions, now);
-        reactions.flush();
-      }
-      next_ledger = (std::floor((now + eps) / ledger_interval) + 1) * ledger_interval;
+    const bool at_end = clock_.reached_end();
+    outputs.after_step(now, clock_.steps(), at_end);
+    if (!dir.empty() && (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() || (at_end && scene_.checkpoint_at_end))) {
+      detail::StageTimer timer(times_, Stage::output);
+      save_checkpoint(checkpoint, outputs.frames());
+      checkpoint_due = next_checkpoint(now);
     }
     if (options.on_step) {
       options.on_step(Progress{clock_.steps(), now, end, dt, domain_->points.size(),
@@ -125,7 +96,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     }
   }
   clock_.run_until(std::numeric_limits<double>::infinity());
-  for (auto& w : writers_) w->close();
+  outputs.close();
 
   RunSummary summary;
   summary.steps = clock_.steps() - first_step;

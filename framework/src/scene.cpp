@@ -3,11 +3,13 @@
 #include "suffuse/scene.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "fnv1a.hpp"
 #include "point_fields.hpp"
 #include "scene_reader.hpp"
 
@@ -113,6 +115,17 @@ PluginNode SceneReader::plugin_node(const Json& node, const std::string& ptr, Pl
 
 namespace {
 
+// FNV-1a of the scene's canonical JSON (keys sorted) without what a restart
+// may change.
+std::string fingerprint_of(Json root) {
+  root.erase("description");
+  if (root.contains("time") && root["time"].is_object())
+    for (const char* key : {"end", "checkpoint_interval", "checkpoint_at_end"}) root["time"].erase(key);
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(root.dump())));
+  return hex;
+}
+
 // Plugins that read point fields of other parts (a phase coupled to the
 // erosion): each field must be one this scene's run provides.
 void check_required_fields(SceneReader& r, const Scene& scene) {
@@ -184,6 +197,7 @@ Scene read_scene(const Json& root, Registry& registry, const std::string& name, 
   for (const SceneSection& section : scene_sections()) section.read(r, scene);
   if (r.diags.empty()) check_required_fields(r, scene);
   if (!r.diags.empty()) throw SceneError(name, r.diags);
+  scene.fingerprint = fingerprint_of(root);
   return scene;
 }
 

@@ -1,4 +1,4 @@
-// Time control: end time, time step, mass scaling.
+// Time control: end time, time step, mass scaling, checkpoints.
 #include "scene_reader.hpp"
 
 namespace suffuse::detail {
@@ -15,7 +15,12 @@ ParameterSchema time_schema() {
   s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
       "Multiplies every inertia (not the weight) for quasi-static runs: the automatic step grows by its square "
       "root; dynamics are no longer physical. Printed in the run log and stored in <name>.run.json");
-  
+  s.number("checkpoint_interval").with_unit("s").above(0).may_be_absent().doc(
+      "Simulated time between checkpoints (<output>/<name>.checkpoint, replaced each time; `suffuse run "
+      "--checkpoint-every` overrides it); absent: none during the run");
+  s.boolean("checkpoint_at_end").fallback(true).doc(
+      "Write a checkpoint at the end time too, so that the run can be extended (raise /time/end and run with "
+      "--restart)");
   return s;
 }
 
@@ -27,6 +32,8 @@ void read_time(SceneReader& r, Scene& scene) {
   scene.dt = t.maybe_number("dt");
   if (t.has("cfl")) scene.cfl = t.number("cfl");
   if (t.has("mass_scaling")) scene.mass_scaling = t.number("mass_scaling");
+  scene.checkpoint_interval = t.maybe_number("checkpoint_interval");
+  if (t.has("checkpoint_at_end")) scene.checkpoint_at_end = t.boolean("checkpoint_at_end");
 }
 
 }  // namespace

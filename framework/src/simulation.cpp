@@ -6,6 +6,7 @@
 
 #include "domain.hpp"
 #include "dry_momentum.hpp"
+#include "grid_projection.hpp"
 #include "materials.hpp"
 #include "reactions.hpp"
 #include "saturated_mixture.hpp"
@@ -23,9 +24,23 @@ const char* stage_name(Stage stage) {
 }
 
 void SimulationClock::run_until(double end) {
-  origin_ = time_;
-  since_origin_ = 0;
+  // Times are counted from an origin while they stay on its multiples (so a
+  // restarted run steps exactly as the run it continues); after a shortened
+  // step they are counted from the time reached.
+  if (time_ != origin_ + static_cast<double>(since_origin_) * nominal_) {
+    origin_ = time_;
+    since_origin_ = 0;
+  }
   end_ = end;
+  dt_ = std::min(nominal_, end_ - time_);
+}
+
+void SimulationClock::restore(const State& s) {
+  nominal_ = s.nominal;
+  time_ = s.time;
+  origin_ = s.origin;
+  steps_ = s.steps;
+  since_origin_ = s.since_origin;
   dt_ = std::min(nominal_, end_ - time_);
 }
 
@@ -59,6 +74,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   materials_->add_fields(domain_->points);
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
+  grid_projection_ = std::make_unique<detail::GridProjection>(mixture_ ? &mixture_->fields() : nullptr);
   create_bodies();
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
   clock_ = SimulationClock(scene.dt ? *scene.dt : critical_time_step());

@@ -304,4 +304,32 @@ void SpeciesTransport::add_to_totals(const std::vector<std::array<double, 4>>& s
   }
 }
 
+std::vector<double> SpeciesTransport::saved_state() const {
+  std::vector<double> state{initial_solid_, initial_liquid_, initial_fines_};
+  for (std::size_t k = 0; k < discharge_.size(); ++k) {
+    const BoundaryDischarge& d = discharge_[k];
+    state.insert(state.end(), {d.liquid_out, d.liquid_in, d.fines_out, d.fines_in});
+    state.insert(state.end(), discharge_carry_[k].begin(), discharge_carry_[k].end());
+  }
+  return state;
+}
+
+void SpeciesTransport::restore_state(const std::vector<double>& state) {
+  if (state.size() != 3 + 8 * discharge_.size())
+    throw Error("checkpoint: the ledger saved " + std::to_string(state.size() < 3 ? 0 : (state.size() - 3) / 8) +
+                " boundaries, the scene has " + std::to_string(discharge_.size()));
+  initial_solid_ = state[0];
+  initial_liquid_ = state[1];
+  initial_fines_ = state[2];
+  for (std::size_t k = 0; k < discharge_.size(); ++k) {
+    const double* v = state.data() + 3 + 8 * k;
+    BoundaryDischarge& d = discharge_[k];
+    d.liquid_out = v[0];
+    d.liquid_in = v[1];
+    d.fines_out = v[2];
+    d.fines_in = v[3];
+    std::copy(v + 4, v + 8, discharge_carry_[k].begin());
+  }
+}
+
 }  // namespace suffuse::detail

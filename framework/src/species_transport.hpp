@@ -48,6 +48,11 @@ class SpeciesTransport {
   // One CSV row of the ledger (with the header first if asked).
   void write_ledger_row(std::ostream& out, double time, bool header) const;
 
+  // What a checkpoint keeps besides the point fields: the initial totals and
+  // what crossed each boundary (with its summation carry).
+  std::vector<double> saved_state() const;
+  void restore_state(const std::vector<double>& state);  // throws if the size differs
+
  private:
   struct OpeningNode {
     std::int64_t node;

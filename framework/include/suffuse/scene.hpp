@@ -88,6 +88,11 @@ struct Scene {
   std::optional<double> dt;  // absent: automatic from the CFL condition
   double cfl = 0.5;
   double mass_scaling = 1;  // inertia factor for quasi-static runs
+  std::optional<double> checkpoint_interval;  // [s]; absent: no checkpoints during the run
+  bool checkpoint_at_end = true;
+  // Hash of the scene without what a restart may change (/time/end, the
+  // checkpoint keys, /description): a checkpoint is only for its own scene.
+  std::string fingerprint;
   std::vector<OutputSpec> outputs;
 
   bool erodible() const {

@@ -35,6 +35,7 @@ class MomentumBalance;
 class DryMomentum;
 class SaturatedMixture;
 class SpeciesTransport;
+class GridProjection;
 }  // namespace detail
 
 // The stages of a step, in order, and the writing of outputs.
@@ -57,8 +58,14 @@ struct Progress {
 };
 
 struct RunOptions {
-  std::filesystem::path output_dir;              // where writers put their files
+  std::filesystem::path output_dir;              // where outputs go; empty: nothing is written
   std::function<void(const Progress&)> on_step;  // called after every step (may be empty)
+  // Simulated time between checkpoints (<output_dir>/<scene>.checkpoint);
+  // absent: the scene's /checkpoint/interval, if any.
+  std::optional<double> checkpoint_interval;
+  // Continue the run saved in this checkpoint instead of starting anew; the
+  // outputs in output_dir continue after the checkpoint's time.
+  std::filesystem::path restart;
 };
 
 struct RunSummary {
@@ -86,6 +93,14 @@ class SimulationClock {
   bool reached_end() const { return time_ >= end_ - eps(); }
   // Ends a step.
   void advance();
+
+  // What a checkpoint keeps of it.
+  struct State {
+    double nominal, time, origin;
+    std::size_t steps, since_origin;
+  };
+  State state() const { return {nominal_, time_, origin_, steps_, since_origin_}; }
+  void restore(const State& s);
 
  private:
   double eps() const { return 1e-9 * nominal_; }
@@ -140,6 +155,10 @@ class Simulation {
   // The same, measuring the reactions the scene asks for (the grid update's).
   void constrain_velocity_recording_reactions(double time, double dt);
   void write_run_info(const std::filesystem::path& file) const;
+  // Checkpoints (checkpoint.cpp): `frames` is how many frames each writer wrote.
+  void save_checkpoint(const std::filesystem::path& file, const std::vector<std::size_t>& frames) const;
+  // Replaces the evolving state by the checkpoint's; returns the writers' frame counts.
+  std::vector<std::size_t> load_checkpoint(const std::filesystem::path& file);
 
   Scene scene_;
   std::unique_ptr<detail::Domain> domain_;
@@ -151,6 +170,7 @@ class Simulation {
   detail::MomentumBalance* momentum_ = nullptr;        // the one of the two this run has
   std::unique_ptr<detail::SpeciesTransport> species_;  // saturated runs
   std::vector<std::unique_ptr<Writer>> writers_;
+  std::unique_ptr<detail::GridProjection> grid_projection_;  // for writers of grid fields
   SimulationClock clock_{0};
   StageTimes times_;
 };

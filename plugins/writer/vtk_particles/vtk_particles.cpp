@@ -1,5 +1,5 @@
 // writer/vtk_particles: one binary .vtp per frame with every output field of
-// the points, and a .pvd collection carrying the simulation time of each frame.
+// the points, listed in the run's .pvd collection with its simulation time.
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkNew.h>
@@ -9,12 +9,10 @@
 #include <vtkXMLPolyDataWriter.h>
 
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <suffuse/error.hpp>
 #include <suffuse/plugin.hpp>
-#include <vector>
 
 namespace {
 
@@ -33,16 +31,22 @@ class VtkParticles final : public suffuse::Writer {
   void open(const fs::path& directory, const std::string& basename) override {
     directory_ = directory;
     basename_ = basename;
-    frames_.clear();
-    write_collection();  // an empty but valid series from the start
+    frames_ = 0;
+  }
+
+  // Frames after the checkpoint's are written again: the files of the run
+  // that went further are removed so that none is left over.
+  void resume(const fs::path& directory, const std::string& basename, const suffuse::ResumePoint& at) override {
+    open(directory, basename);
+    frames_ = at.frames;
+    for (std::size_t k = frames_; fs::exists(directory_ / file_name(k)); ++k) fs::remove(directory_ / file_name(k));
   }
 
   void write(const suffuse::OutputFrame& frame) override {
-    std::ostringstream name;
-    name << basename_ << "_" << std::setw(6) << std::setfill('0') << frames_.size() << ".vtp";
-    write_polydata(frame, directory_ / name.str());
-    frames_.push_back({frame.time, name.str()});
-    write_collection();
+    const std::string name = file_name(frames_);
+    write_polydata(frame, directory_ / name);
+    ++frames_;
+    frame.series.add(name, frame.time);
   }
 
  private:
@@ -131,26 +135,16 @@ class VtkParticles final : public suffuse::Writer {
     return array;
   }
 
-  void write_collection() const {
-    const fs::path file = directory_ / (basename_ + ".pvd");
-    const fs::path tmp = file.string() + ".part";
-    {
-      std::ofstream out(tmp);
-      out << std::setprecision(17);
-      out << "<?xml version=\"1.0\"?>\n"
-          << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
-      for (const auto& [time, name] : frames_)
-        out << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\"" << name << "\"/>\n";
-      out << "  </Collection>\n</VTKFile>\n";
-      if (!out) throw suffuse::Error("writer/vtk_particles: cannot write " + file.string());
-    }
-    fs::rename(tmp, file);
+  std::string file_name(std::size_t frame) const {
+    std::ostringstream name;
+    name << basename_ << "_" << std::setw(6) << std::setfill('0') << frame << ".vtp";
+    return name.str();
   }
 
   bool compress_;
   fs::path directory_;
   std::string basename_;
-  std::vector<std::pair<double, std::string>> frames_;
+  std::size_t frames_ = 0;
 };
 
 }  // namespace
@@ -158,5 +152,5 @@ class VtkParticles final : public suffuse::Writer {
 SUFFUSE_PLUGIN_LIBRARY(registry) {
   registry.add<suffuse::Writer, VtkParticles>(
       "writer/vtk_particles",
-      "Material points as binary VTK PolyData (.vtp) per frame plus a .pvd time series for ParaView");
+      "Material points as binary VTK PolyData (.vtp) per frame, in the run's .pvd time series for ParaView");
 }

@@ -1,0 +1,60 @@
+#include "grid_projection.hpp"
+
+#include <algorithm>
+
+#include "saturated_mixture.hpp"
+
+namespace suffuse::detail {
+
+namespace {
+
+// field_I = sum_p N_Ip w_p f_p / sum_p N_Ip w_p; nodes no point reaches stay 0.
+void weighted_mean(const Interpolation& s, std::size_t n, const double* w, const double* f, int k, GridField& out,
+                   std::vector<double>& weight) {
+  std::fill(out.values.begin(), out.values.end(), 0.0);
+  std::fill(weight.begin(), weight.end(), 0.0);
+  for (std::size_t p = 0; p < n; ++p)
+    for (int a = 0; a < s.npp; ++a) {
+      const double nw = s.weights[p * s.npp + a] * w[p];
+      const std::int64_t I = s.ids[p * s.npp + a];
+      weight[I] += nw;
+      for (int c = 0; c < k; ++c) out.values[I * k + c] += nw * f[p * k + c];
+    }
+  for (std::size_t I = 0; I < weight.size(); ++I)
+    for (int c = 0; c < k; ++c) out.values[I * k + c] = weight[I] > 0 ? out.values[I * k + c] / weight[I] : 0.0;
+}
+
+}  // namespace
+
+const std::vector<GridField>& GridProjection::project(Domain& d) {
+  const int D = d.dim();
+  const std::size_t nodes = d.grid.node_count(), n = d.points.size();
+  const auto& core = d.points.core();
+  if (fields_.empty()) {
+    fields_.push_back({"mass", "kg", "solid mass on the node, sum N m (per metre in 2D)", 1, {}});
+    fields_.push_back({"velocity", "m/s", "velocity of the skeleton, mass-weighted", D, {}});
+    if (mixture_) {
+      fields_.push_back({"liquid_velocity", "m/s", "velocity of the pore liquid, liquid-mass-weighted", D, {}});
+      fields_.push_back({"pore_pressure", "Pa", "pore pressure, compression positive, volume-weighted", 1, {}});
+      fields_.push_back({"darcy_flux", "m/s", "Darcy flux n (v_L - v_s), volume-weighted", D, {}});
+    }
+    for (GridField& f : fields_) f.values.resize(nodes * f.components);
+    weight_.resize(nodes);
+  }
+  d.evaluate_shape(shape_);
+  const double* mass = d.points.data(core.mass);
+  const double* volume = d.points.data(core.volume);
+  const std::vector<double> ones(n, 1.0);
+  weighted_mean(shape_, n, mass, ones.data(), 1, fields_[0], weight_);
+  for (std::size_t I = 0; I < nodes; ++I) fields_[0].values[I] = weight_[I];  // the sum itself
+  weighted_mean(shape_, n, mass, d.points.data(core.velocity), D, fields_[1], weight_);
+  if (mixture_) {
+    const MixtureFields& m = *mixture_;
+    weighted_mean(shape_, n, d.points.data(m.liquid_mass), d.points.data(m.liquid_velocity), D, fields_[2], weight_);
+    weighted_mean(shape_, n, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
+    weighted_mean(shape_, n, volume, d.points.data(m.darcy_flux), D, fields_[4], weight_);
+  }
+  return fields_;
+}
+
+}  // namespace suffuse::detail

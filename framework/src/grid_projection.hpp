@@ -1,0 +1,30 @@
+#pragma once
+// The grid fields of an output frame: what the points carry, projected on the
+// nodes with the shape functions at the points' current positions (the same
+// projection the next step's P2G makes). Computed only at frames of writers
+// that ask for them, so the time loop pays nothing for it.
+#include <vector>
+
+#include "domain.hpp"
+#include "suffuse/writer.hpp"
+
+namespace suffuse::detail {
+
+struct MixtureFields;
+
+class GridProjection {
+ public:
+  // `mixture`: the saturated mixture's point fields, or null in dry runs.
+  GridProjection(const MixtureFields* mixture) : mixture_(mixture) {}
+  // mass, velocity (mass-weighted); saturated runs also liquid_velocity
+  // (liquid-mass-weighted), pore_pressure and darcy_flux (volume-weighted).
+  const std::vector<GridField>& project(Domain& domain);
+
+ private:
+  const MixtureFields* mixture_;
+  Interpolation shape_;
+  std::vector<GridField> fields_;
+  std::vector<double> weight_;
+};
+
+}  // namespace suffuse::detail

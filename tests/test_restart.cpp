@@ -1,0 +1,203 @@
+// Checkpoint and restart: a run restarted from a checkpoint ends bit for bit
+// where the uninterrupted run ends, and its outputs continue instead of
+// starting over; checkpoints of another scene, damaged ones and ones at or
+// past the end time are refused with a message.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <suffuse/error.hpp>
+#include <suffuse/plugin_loader.hpp>
+#include <suffuse/scene.hpp>
+#include <suffuse/simulation.hpp>
+
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("suffuse_restart_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+struct Case {
+  const char* scene;
+  double end;
+  nlohmann::json extra_bc;  // merged into the first boundary condition (e.g. a reaction)
+};
+
+// Every point field, bit for bit.
+void expect_same_points(const suffuse::PointSet& a, const suffuse::PointSet& b) {
+  ASSERT_EQ(a.field_count(), b.field_count());
+  ASSERT_EQ(a.size(), b.size());
+  for (suffuse::FieldId f = 0; f < a.field_count(); ++f) {
+    const auto va = a.values(f), vb = b.values(f);
+    ASSERT_EQ(va.size(), vb.size());
+    EXPECT_EQ(std::memcmp(va.data(), vb.data(), va.size() * sizeof(double)), 0) << "field " << a.info(f).name;
+  }
+}
+
+class Restart : public ::testing::TestWithParam<Case> {
+ protected:
+  nlohmann::json scene_json() const {
+    auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes" / (std::string(GetParam().scene) + ".json"));
+    j["time"]["end"] = GetParam().end;
+    j["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", GetParam().end / 10}}};
+    if (!GetParam().extra_bc.is_null()) j["boundary_conditions"][0].update(GetParam().extra_bc);
+    return j;
+  }
+};
+
+// Run A goes to the end, with a checkpoint half-way; a copy of its output
+// directory is taken right after that checkpoint. Run B restarts from the
+// copy: its points, its .pvd series, its ledger and reactions must equal A's.
+TEST_P(Restart, ContinuesBitForBitAndItsOutputsContinue) {
+  const std::string name = GetParam().scene;
+  const fs::path a_dir = fresh_dir(name + "_a"), b_dir = fresh_dir(name + "_b");
+  suffuse::Registry registry;
+  suffuse::Scene scene = suffuse::test::scene_from(scene_json(), registry);
+  scene.name = name;
+
+  suffuse::Simulation a(scene, registry, 1);
+  suffuse::RunOptions options;
+  options.output_dir = a_dir;
+  options.checkpoint_interval = GetParam().end / 2;
+  bool copied = false;
+  double copied_at = 0;
+  options.on_step = [&](const suffuse::Progress& p) {
+    if (copied || !fs::exists(a_dir / (name + ".checkpoint"))) return;
+    fs::copy(a_dir, b_dir, fs::copy_options::recursive);
+    copied = true;
+    copied_at = p.time;
+  };
+  a.run(options);
+  ASSERT_TRUE(copied);
+  EXPECT_NEAR(copied_at, GetParam().end / 2, a.dt()) << "the first checkpoint is half-way";
+
+  suffuse::Simulation b(scene, registry, 1);
+  suffuse::RunOptions resume;
+  resume.output_dir = b_dir;
+  resume.restart = b_dir / (name + ".checkpoint");
+  const suffuse::RunSummary summary = b.run(resume);
+  EXPECT_LT(summary.steps, a.steps()) << "B stepped only the second half";
+  EXPECT_EQ(b.steps(), a.steps());
+  EXPECT_EQ(b.time(), a.time());
+  expect_same_points(a.points(), b.points());
+  for (const char* suffix : {".pvd", ".ledger.csv", ".reactions.csv"}) {
+    if (!fs::exists(a_dir / (name + suffix))) continue;
+    EXPECT_EQ(slurp(b_dir / (name + suffix)), slurp(a_dir / (name + suffix))) << suffix;
+  }
+  EXPECT_EQ(slurp(b_dir / (name + "_000010.vtp")), slurp(a_dir / (name + "_000010.vtp"))) << "the last frame";
+  EXPECT_FALSE(fs::exists(b_dir / (name + "_000011.vtp")));
+  // The final checkpoint of both runs holds the same state.
+  EXPECT_EQ(slurp(b_dir / (name + ".checkpoint")), slurp(a_dir / (name + ".checkpoint")));
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, Restart,
+                         ::testing::Values(
+                             // erosion, transport, the ledger's open faces, pore-pressure boundaries
+                             Case{"suffusion_column", 0.2, nullptr},
+                             // a traction on the points, a recorded reaction, a saturated column
+                             Case{"terzaghi", 0.05, {{"reaction", "base"}}},
+                             // Mohr-Coulomb's plastic state, a velocity-driven footing
+                             Case{"footing_mc", 0.1, nullptr}),
+                         [](const auto& info) { return std::string(info.param.scene); });
+
+class RestartRefused : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fresh_dir("refused");
+    j_ = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+    j_["time"]["end"] = 0.05;
+    j_["outputs"] = nlohmann::json::array();
+    suffuse::Registry registry;
+    suffuse::Scene scene = suffuse::test::scene_from(j_, registry);
+    scene.name = "column";
+    suffuse::Simulation sim(scene, registry, 1);
+    suffuse::RunOptions options;
+    options.output_dir = dir_;
+    sim.run(options);
+    checkpoint_ = dir_ / "column.checkpoint";
+    ASSERT_TRUE(fs::exists(checkpoint_)) << "a checkpoint at the end by default";
+  }
+  // The message of restarting scene `j` from `file`.
+  std::string restart_error(const nlohmann::json& j, const fs::path& file) {
+    suffuse::Registry registry;
+    suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+    scene.name = "column";
+    suffuse::Simulation sim(scene, registry, 1);
+    suffuse::RunOptions options;
+    options.output_dir = dir_;
+    options.restart = file;
+    try {
+      sim.run(options);
+    } catch (const suffuse::Error& e) {
+      return e.what();
+    }
+    return "";
+  }
+  fs::path dir_, checkpoint_;
+  nlohmann::json j_;
+};
+
+TEST_F(RestartRefused, AnotherScene) {
+  auto j = j_;
+  j["time"]["end"] = 0.1;
+  j["bodies"][0]["porosity"] = 0.35;
+  EXPECT_NE(restart_error(j, checkpoint_).find("written by a run of another scene"), std::string::npos);
+}
+
+TEST_F(RestartRefused, AtOrPastTheEndTime) {
+  EXPECT_NE(restart_error(j_, checkpoint_).find("raise /time/end to extend the run"), std::string::npos);
+}
+
+TEST_F(RestartRefused, DamagedOrTruncatedOrNotACheckpoint) {
+  auto j = j_;
+  j["time"]["end"] = 0.1;
+  std::string bytes = slurp(checkpoint_);
+  const fs::path damaged = dir_ / "damaged.checkpoint", truncated = dir_ / "truncated.checkpoint",
+                 other = dir_ / "other.checkpoint";
+  bytes[bytes.size() / 2] ^= 0x10;
+  std::ofstream(damaged, std::ios::binary) << bytes;
+  std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 3);
+  std::ofstream(other) << "{\"not\": \"a checkpoint\"}\n";
+  EXPECT_NE(restart_error(j, damaged).find("checksum does not match"), std::string::npos);
+  EXPECT_NE(restart_error(j, truncated).find("checksum does not match"), std::string::npos);
+  EXPECT_NE(restart_error(j, other).find("not a suffuse checkpoint"), std::string::npos);
+  EXPECT_NE(restart_error(j, dir_ / "missing.checkpoint").find("no such file"), std::string::npos);
+}
+
+// Extending a finished run: a later end time alone is allowed, the ledger
+// continues and still closes.
+TEST_F(RestartRefused, ALaterEndTimeExtendsTheRun) {
+  auto j = j_;
+  j["time"]["end"] = 0.1;
+  suffuse::Registry registry;
+  suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  scene.name = "column";
+  suffuse::Simulation sim(scene, registry, 1);
+  suffuse::RunOptions options;
+  options.output_dir = dir_;
+  options.restart = checkpoint_;
+  const suffuse::RunSummary s = sim.run(options);
+  EXPECT_DOUBLE_EQ(sim.time(), 0.1);
+  ASSERT_TRUE(s.ledger);
+  EXPECT_LT(s.ledger->fines_imbalance(), 1e-12);
+  EXPECT_LT(s.ledger->liquid_imbalance(), 1e-12);
+  const auto ledger = suffuse::test::read_csv(dir_ / "column.ledger.csv");
+  EXPECT_NEAR(ledger.rows.back()[ledger.column("time")], 0.1, 1e-12);
+}
+
+}  // namespace
