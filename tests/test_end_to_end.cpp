@@ -5,6 +5,9 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkCellData.h>
+#include <vtkImageData.h>
+#include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include <cstdlib>
@@ -346,3 +349,111 @@ TEST(EndToEnd, SuffusionColumnWritesItsLedger) {
 }
 
 }  // namespace
+
+namespace {
+
+// A named array of a VTK dataset's point or cell data, as doubles.
+std::vector<double> vtk_values(vtkDataSetAttributes* data, const char* name) {
+  vtkDataArray* a = data->GetArray(name);
+  if (!a) return {};
+  std::vector<double> v(static_cast<std::size_t>(a->GetNumberOfTuples() * a->GetNumberOfComponents()));
+  for (vtkIdType t = 0; t < a->GetNumberOfTuples(); ++t)
+    for (int c = 0; c < a->GetNumberOfComponents(); ++c)
+      v[static_cast<std::size_t>(t * a->GetNumberOfComponents() + c)] = a->GetComponent(t, c);
+  return v;
+}
+
+}  // namespace
+
+// writer/vtk_grid on steady upward seepage (share/scenes/upward_seepage.json):
+// its nodal Darcy flux and pore pressure against the closed form (tolerances
+// of TwoPhase.SteadyUpwardSeepage, which checks the points), its cell
+// averages against the points' own values recomputed here, and both writers
+// as two parts of one .pvd at the same times.
+TEST(EndToEnd, GridWriterOnSteadyUpwardSeepage) {
+  const fs::path out = fresh_dir("grid");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/upward_seepage.json");
+  j["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", 0.3}},
+                  {{"type", "writer/vtk_grid"}, {"interval", 0.3}, {"cell_fields", {"porosity", "darcy_flux"}}}};
+  std::ofstream(out / "seep.json") << j.dump(2);
+  ASSERT_EQ(run("run " + (out / "seep.json").string() + " --output " + out.string() + " --quiet", out / "log.txt"), 0)
+      << slurp(out / "log.txt");
+  const auto points = read_pvd(out / "seep.pvd", 0), grid = read_pvd(out / "seep.pvd", 1);
+  ASSERT_EQ(points.size(), 3u);
+  ASSERT_EQ(grid.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(points[k].time, grid[k].time);
+
+  vtkNew<vtkXMLImageDataReader> image_reader;
+  image_reader->SetFileName((out / grid.back().file).c_str());
+  image_reader->Update();
+  vtkImageData* image = image_reader->GetOutput();
+  ASSERT_EQ(image->GetNumberOfPoints(), 2 * 56);
+  ASSERT_EQ(image->GetNumberOfCells(), 55);
+  const double L = 1.0, dh = 0.5, K = 0.01, gamma_w = 1000 * 9.81, i = dh / L, q_exact = K * dh / L;
+  const auto q = vtk_values(image->GetPointData(), "darcy_flux");
+  const auto p = vtk_values(image->GetPointData(), "pore_pressure");
+  ASSERT_EQ(q.size(), 3u * 112);
+  ASSERT_EQ(p.size(), 112u);
+  ASSERT_FALSE(vtk_values(image->GetPointData(), "velocity").empty());
+  ASSERT_FALSE(vtk_values(image->GetPointData(), "liquid_velocity").empty());
+  double q_worst = 0, p_worst = 0;
+  int checked = 0;
+  for (vtkIdType n = 0; n < image->GetNumberOfPoints(); ++n) {
+    double xyz[3];
+    image->GetPoint(n, xyz);
+    // Below the outlet cells (docs/two-phase.md) and above the base node row.
+    if (xyz[1] < 0.02 || xyz[1] > 0.9) continue;
+    q_worst = std::max(q_worst, std::abs(q[3 * n + 1] - q_exact) / q_exact);
+    p_worst = std::max(p_worst, std::abs(p[n] - gamma_w * (L + dh - xyz[1] * (1 + i))) / (gamma_w * (L + dh)));
+    ++checked;
+  }
+  EXPECT_GT(checked, 80);
+  EXPECT_LT(q_worst, 0.01);
+  EXPECT_LT(p_worst, 0.02);
+
+  // Cell averages: recomputed from the last frame of the points.
+  vtkNew<vtkXMLPolyDataReader> point_reader;
+  point_reader->SetFileName((out / points.back().file).c_str());
+  point_reader->Update();
+  vtkPolyData* poly = point_reader->GetOutput();
+  const auto volume = vtk_values(poly->GetPointData(), "volume");
+  const auto porosity = vtk_values(poly->GetPointData(), "porosity");
+  const auto flux = vtk_values(poly->GetPointData(), "darcy_flux");
+  ASSERT_FALSE(volume.empty());
+  std::vector<double> weight(55), n_mean(55), qy_mean(55), count(55);
+  for (vtkIdType k = 0; k < poly->GetNumberOfPoints(); ++k) {
+    double xyz[3];
+    poly->GetPoint(k, xyz);
+    const auto cell = static_cast<std::size_t>(std::clamp(static_cast<int>(std::floor(xyz[1] / 0.02)), 0, 54));
+    weight[cell] += volume[k];
+    n_mean[cell] += volume[k] * porosity[k];
+    qy_mean[cell] += volume[k] * flux[3 * k + 1];
+    count[cell] += 1;
+  }
+  const auto cell_n = vtk_values(image->GetCellData(), "porosity");
+  const auto cell_q = vtk_values(image->GetCellData(), "darcy_flux");
+  const auto cell_count = vtk_values(image->GetCellData(), "point_count");
+  ASSERT_EQ(cell_n.size(), 55u);
+  ASSERT_EQ(cell_q.size(), 3u * 55);
+  double total = 0;
+  for (std::size_t c = 0; c < 55; ++c) {
+    total += cell_count[c];
+    EXPECT_EQ(cell_count[c], count[c]) << "cell " << c;
+    if (weight[c] == 0) continue;
+    EXPECT_NEAR(cell_n[c], n_mean[c] / weight[c], 1e-12) << "cell " << c;
+    EXPECT_NEAR(cell_q[3 * c + 1], qy_mean[c] / weight[c], 1e-14) << "cell " << c;
+  }
+  EXPECT_EQ(total, static_cast<double>(poly->GetNumberOfPoints()));
+}
+
+// A grid writer asked for a point field the run lacks is refused at validation.
+TEST(EndToEnd, GridWriterRefusesAMissingCellField) {
+  const fs::path out = fresh_dir("grid_missing");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  j["outputs"] = {{{"type", "writer/vtk_grid"}, {"cell_fields", {"fines_content"}}}};
+  std::ofstream(out / "bar.json") << j.dump(2);
+  EXPECT_EQ(run("validate " + (out / "bar.json").string(), out / "log.txt"), 1);
+  EXPECT_NE(slurp(out / "log.txt").find("reads point field 'fines_content', which this scene does not provide"),
+            std::string::npos)
+      << slurp(out / "log.txt");
+}
