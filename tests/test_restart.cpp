@@ -54,7 +54,9 @@ class Restart : public ::testing::TestWithParam<Case> {
   nlohmann::json scene_json() const {
     auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes" / (std::string(GetParam().scene) + ".json"));
     j["time"]["end"] = GetParam().end;
-    j["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", GetParam().end / 10}}};
+    j["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", GetParam().end / 10}},
+                    {{"type", "writer/csv_probe"}, {"name", "all"}, {"fields", {"displacement"}},
+                     {"box_min", {-1e3, -1e3}}, {"box_max", {1e3, 1e3}}}};
     if (!GetParam().extra_bc.is_null()) j["boundary_conditions"][0].update(GetParam().extra_bc);
     return j;
   }
@@ -62,7 +64,7 @@ class Restart : public ::testing::TestWithParam<Case> {
 
 // Run A goes to the end, with a checkpoint half-way; a copy of its output
 // directory is taken right after that checkpoint. Run B restarts from the
-// copy: its points, its .pvd series, its ledger and reactions must equal A's.
+// copy: its points, its .pvd series, its ledger, reactions and probe must equal A's.
 TEST_P(Restart, ContinuesBitForBitAndItsOutputsContinue) {
   const std::string name = GetParam().scene;
   const fs::path a_dir = fresh_dir(name + "_a"), b_dir = fresh_dir(name + "_b");
@@ -95,12 +97,13 @@ TEST_P(Restart, ContinuesBitForBitAndItsOutputsContinue) {
   EXPECT_EQ(b.steps(), a.steps());
   EXPECT_EQ(b.time(), a.time());
   expect_same_points(a.points(), b.points());
-  for (const char* suffix : {".pvd", ".ledger.csv", ".reactions.csv"}) {
+  for (const char* suffix : {".pvd", ".ledger.csv", ".reactions.csv", "_1.all.csv"}) {
     if (!fs::exists(a_dir / (name + suffix))) continue;
     EXPECT_EQ(slurp(b_dir / (name + suffix)), slurp(a_dir / (name + suffix))) << suffix;
   }
-  EXPECT_EQ(slurp(b_dir / (name + "_000010.vtp")), slurp(a_dir / (name + "_000010.vtp"))) << "the last frame";
-  EXPECT_FALSE(fs::exists(b_dir / (name + "_000011.vtp")));
+  EXPECT_EQ(slurp(b_dir / (name + "_0_000010.vtp")), slurp(a_dir / (name + "_0_000010.vtp"))) << "the last frame";
+  EXPECT_FALSE(fs::exists(b_dir / (name + "_0_000011.vtp")));
+  EXPECT_EQ(suffuse::test::read_csv(b_dir / (name + "_1.all.csv")).rows.size(), 201u) << "the probe's rows";
   // The final checkpoint of both runs holds the same state.
   EXPECT_EQ(slurp(b_dir / (name + ".checkpoint")), slurp(a_dir / (name + ".checkpoint")));
 }
