@@ -5,6 +5,7 @@
 //   suffuse describe NAME
 //   suffuse schema
 //   suffuse plot --png OUT.png --x COLUMN --y COLUMN [options] FILE.csv [FILE.csv ...]
+//   suffuse gradation PSD.csv [--json] [--png FILE.png]
 #include <unistd.h>
 
 #include <boost/program_options.hpp>
@@ -26,6 +27,7 @@
 #include <suffuse/version.hpp>
 #include <vector>
 
+#include "gradation_command.hpp"
 #include "plot.hpp"
 
 namespace po = boost::program_options;
@@ -49,6 +51,9 @@ const char* usage =
     "  suffuse plot --png OUT.png --x COLUMN --y COLUMN [--y COLUMN ...] [options] FILE.csv [FILE.csv ...]\n"
     "                                line charts of CSV columns (e.g. element-test results) to a PNG,\n"
     "                                no display needed; suffuse plot --help lists its options\n"
+    "  suffuse gradation PSD.csv [--json] [--png FILE.png]\n"
+    "                                internal stability of a particle-size distribution by the published\n"
+    "                                criteria (Kezdi, Kenney-Lau, Burenkova, ...); suffuse gradation --help\n"
     "Plugins are searched in the scene's plugin_paths, then $SUFFUSE_PLUGIN_PATH, then\n"
     "the bundled plugin directory.\n";
 
@@ -417,6 +422,7 @@ int main(int argc, char** argv) {
   try {
     // plot has options and a list of files of its own.
     if (argc >= 2 && std::string(argv[1]) == "plot") return cmd_plot(argc - 1, argv + 1);
+    if (argc >= 2 && std::string(argv[1]) == "gradation") return suffuse::gradation_command::run(argc - 1, argv + 1);
     po::options_description opts("Options");
     opts.add_options()("help,h", "show this help")("version", "print the version")(
         "output,o", po::value<std::string>(), "output directory (run)")(

@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <suffuse/error.hpp>
 #include <suffuse/gradation.hpp>
@@ -213,5 +216,74 @@ TEST(GradationInput, SizesInMicrometresAreConvertedToMillimetres) {
   EXPECT_EQ(g.sizes_mm().front(), 0.1);
   EXPECT_EQ(g.sizes_mm().back(), 1.0);
 }
+
+// ---------------------------------------------------------------------------
+// suffuse gradation, end to end.
+
+namespace command {
+
+// Runs suffuse gradation ARGS in DIR; its exit status, with stdout and stderr in DIR/log.txt.
+int gradation(const fs::path& dir, const std::string& args) {
+  const std::string line = "cd " + dir.string() + " && " + std::string(SUFFUSE_EXECUTABLE) + " gradation " + args +
+                           " > log.txt 2>&1";
+  const int status = std::system(line.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+const std::string dem = (suffuse::test::source_dir() / "share/gradations/dem_gap_graded.csv").string();
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("suffuse_gradation_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(GradationCommand, PrintsATableWithEveryCriterionAndTheErodibleFines) {
+  const fs::path dir = fresh_dir("table");
+  ASSERT_EQ(gradation(dir, dem), 0) << slurp(dir / "log.txt");
+  const std::string out = slurp(dir / "log.txt");
+  EXPECT_NE(out.find("criterion"), std::string::npos);
+  for (const char* name : {"Kezdi (1979)", "Kenney and Lau (1985)", "Kenney and Lau (1986)", "Li and Fannin (2008)",
+                           "Burenkova (1993)", "Modified Burenkova", "Wan and Fell (2008)", "Chang and Zhang (2013)"})
+    EXPECT_NE(out.find(name), std::string::npos) << name;
+  EXPECT_NE(out.find("erodible fines content: 35 %"), std::string::npos) << out;
+}
+
+TEST(GradationCommand, JsonHasTheSameVerdicts) {
+  const fs::path dir = fresh_dir("json");
+  ASSERT_EQ(gradation(dir, dem + " --json"), 0) << slurp(dir / "log.txt");
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "log.txt"));
+  const auto g = suffuse::read_gradation_file(dem);
+  const auto s = suffuse::assess_internal_stability(g);
+  ASSERT_EQ(j["criteria"].size(), s.criteria.size());
+  for (std::size_t k = 0; k < s.criteria.size(); ++k) {
+    EXPECT_EQ(j["criteria"][k]["id"], s.criteria[k].id);
+    EXPECT_EQ(j["criteria"][k]["verdict"], suffuse::to_string(s.criteria[k].verdict));
+  }
+  EXPECT_EQ(j["erodible_fines"], 0.35);
+  EXPECT_TRUE(j["unstable"].get<bool>());
+}
+
+TEST(GradationCommand, PngIsWrittenAndBadInputIsAnErrorWithNothingWritten) {
+  const fs::path dir = fresh_dir("png");
+  ASSERT_EQ(gradation(dir, dem + " --png psd.png"), 0) << slurp(dir / "log.txt");
+  const std::string png = slurp(dir / "psd.png");
+  ASSERT_GT(png.size(), 1000u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  std::ofstream(dir / "bad.csv") << "size, passing\n0.1, 0\n1, 50\n2, 100\n";
+  EXPECT_EQ(gradation(dir, "bad.csv --png bad.png"), 1);
+  EXPECT_NE(slurp(dir / "log.txt").find("bad.csv:1: size unit missing or unknown"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "bad.png"));
+}
+
+}  // namespace command
 
 }  // namespace

@@ -30,6 +30,12 @@ std::string text(double v, int digits = 3) {
 
 std::string percent(double fraction) { return text(100 * fraction) + " %"; }
 
+// Strictly beyond a boundary, not by round-off: a curve drawn through a
+// boundary (H = 15 % where F = 20 %, say) lies on it.
+constexpr double round_off = 1e-9;
+bool below(double value, double boundary) { return value < boundary * (1 - round_off); }
+bool above(double value, double boundary) { return value > boundary * (1 + round_off); }
+
 // What every criterion needs to know of the curve.
 struct Curve {
   const Gradation& g;
@@ -98,10 +104,10 @@ std::optional<double> largest_unstable_fraction(const Curve& c) {
   auto keep = [&](double f) { largest = std::max(largest.value_or(f), f); };
   for (std::size_t k = 0; k < points.size(); ++k) {
     const double gap_k = points[k].h - li_fannin_boundary(points[k].f);
-    if (gap_k < 0) keep(points[k].f);
+    if (gap_k < -round_off) keep(points[k].f);
     if (k + 1 == points.size()) break;
     const double gap_next = points[k + 1].h - li_fannin_boundary(points[k + 1].f);
-    if (gap_k < 0 && gap_next >= 0)  // leaves the zone in between: both are linear in log D there
+    if (gap_k < -round_off && gap_next >= 0)  // leaves the zone in between: both are linear in log D there
       keep(points[k].f + (points[k + 1].f - points[k].f) * gap_k / (gap_k - gap_next));
   }
   return largest;
@@ -157,7 +163,7 @@ CriterionResult kezdi(const Curve& c) {
   r.at_passing = best_split;
   r.at_size_mm = g.size_at(best_split, Side::lower);
   r.also = {{"D'15 [mm]", best_coarse}, {"d'85 [mm]", best_fine}};
-  r.verdict = best > 4 ? Verdict::unstable : Verdict::stable;
+  r.verdict = above(best, 4) ? Verdict::unstable : Verdict::stable;
   r.applicability = "cohesionless soils; every split with F from " + percent(std::max(lowest, 0.0)) + " to 100 %";
   return r;
 }
@@ -177,7 +183,7 @@ CriterionResult kenney_lau(const Curve& c, int year) {
   r.at_size_mm = least->second.size;
   r.at_passing = least->second.f;
   r.also = {{"H", least->second.h}};
-  r.verdict = r.value < boundary ? Verdict::unstable : Verdict::stable;
+  r.verdict = below(r.value, boundary) ? Verdict::unstable : Verdict::stable;
   r.applicability = "granular soils; " + c.f_max_why;
   return r;
 }
@@ -195,7 +201,7 @@ CriterionResult li_fannin(const Curve& c) {
   r.at_size_mm = least->second.size;
   r.at_passing = least->second.f;
   r.also = {{"H", least->second.h}};
-  r.verdict = r.value < 1 ? Verdict::unstable : Verdict::stable;
+  r.verdict = below(r.value, 1) ? Verdict::unstable : Verdict::stable;
   r.applicability = "broadly graded and gap-graded soils (RMC manual); " + c.f_max_why;
   return r;
 }
@@ -228,7 +234,7 @@ CriterionResult burenkova(const Curve& c) {
   if (d_max > 100) return not_applicable(r, "largest size " + text(d_max) + " mm: tested up to 100 mm");
   if (c.cu > 200) return not_applicable(r, "Cu = " + text(c.cu) + ": tested up to 200");
   r.value = f->h1;
-  r.verdict = f->h1 > lower && f->h1 < upper ? Verdict::stable : Verdict::unstable;
+  r.verdict = above(f->h1, lower) && below(f->h1, upper) ? Verdict::stable : Verdict::unstable;
   r.applicability = std::string("cohesionless sand-gravels up to 100 mm, Cu up to 200") +
                     (std::isnan(c.cu) ? " (Cu not known)" : "") +
                     (f->h1 >= upper ? "; Zone III: suffusive per Burenkova, expected stable by Wan and Fell (2004)"
