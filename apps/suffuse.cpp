@@ -210,6 +210,24 @@ int cmd_reference() {
   return 0;
 }
 
+// The internal-stability criteria on each body's gradation, and a warning
+// where an erosion law erodes a soil that every criterion finds stable.
+void print_gradations(const suffuse::Scene& scene) {
+  for (const suffuse::BodySpec& body : scene.bodies) {
+    if (!body.internal_stability) continue;
+    const suffuse::InternalStability& s = *body.internal_stability;
+    std::cout << "\nbody '" << body.name << "': gradation " << body.gradation_source << "\n";
+    suffuse::gradation_command::print_table(std::cout, s, "  ");
+    if (body.fines_content_from_gradation)
+      std::cout << "  fines_content = " << body.fines_content << " (fines_content_from_gradation)\n";
+    const suffuse::MaterialSpec& material = scene.materials[body.material];
+    if (material.erosion && s.stable())
+      std::cout << "warning: body '" << body.name << "': every applicable criterion finds its gradation stable, yet "
+                << "material '" << material.name << "' erodes it (" << material.erosion->type
+                << "): suffusion is not expected in this soil\n";
+  }
+}
+
 int cmd_validate(const fs::path& scene_file) {
   suffuse::Registry registry;
   suffuse::PluginLoader loader(registry);
@@ -217,6 +235,7 @@ int cmd_validate(const fs::path& scene_file) {
   std::cout << scene_file.string() << " is valid: " << scene.dim << "D, " << scene.materials.size()
             << " material(s), " << scene.bodies.size() << " body(ies), " << scene.boundary_conditions.size()
             << " boundary condition(s), " << scene.outputs.size() << " output(s)\n";
+  print_gradations(scene);
   return 0;
 }
 

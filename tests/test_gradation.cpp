@@ -286,4 +286,86 @@ TEST(GradationCommand, PngIsWrittenAndBadInputIsAnErrorWithNothingWritten) {
 
 }  // namespace command
 
+
+// ---------------------------------------------------------------------------
+// Gradations in scenes.
+
+namespace scenes {
+
+nlohmann::json column() {
+  nlohmann::json j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  j["bodies"][0].erase("fines_content");
+  j["bodies"][0].erase("ultimate_fines_content");
+  return j;
+}
+
+std::vector<suffuse::Diagnostic> diagnostics_of(const nlohmann::json& j) {
+  suffuse::Registry registry;
+  try {
+    suffuse::test::scene_from(j, registry);
+  } catch (const suffuse::SceneError& e) {
+    return e.diagnostics();
+  }
+  return {};
+}
+
+// A file relative to the scene (scene_from reads scenes as if they were in
+// the source directory).
+TEST(GradationScene, FinesContentComesFromTheGradationFile) {
+  nlohmann::json j = column();
+  j["bodies"][0]["gradation"] = "share/gradations/dem_gap_graded.csv";
+  j["bodies"][0]["fines_content_from_gradation"] = true;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  const suffuse::BodySpec& body = scene.bodies[0];
+  ASSERT_TRUE(body.internal_stability);
+  EXPECT_TRUE(body.internal_stability->unstable());
+  EXPECT_EQ(body.fines_content, 0.35);  // finer than the gap, 35 % passing
+}
+
+TEST(GradationScene, BadInlinePointsNameTheirJsonPointer) {
+  nlohmann::json j = column();
+  j["bodies"][0]["gradation_points"] = {{0.2, 0}, {0.4, 50}, {0.3, 100}};
+  const auto d = diagnostics_of(j);
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].pointer, "/bodies/0/gradation_points/2/0");
+  EXPECT_EQ(d[0].problem, "sizes not increasing");
+  j["bodies"][0]["gradation_points"] = {{0.2, 0, 1}, {0.4, 50}, {0.8, 100}};
+  EXPECT_EQ(diagnostics_of(j).at(0).problem, "wrong shape of a row");
+}
+
+TEST(GradationScene, ConflictingOrMissingSourcesAreErrors) {
+  nlohmann::json j = column();
+  j["bodies"][0]["fines_content_from_gradation"] = true;
+  EXPECT_EQ(diagnostics_of(j).at(0).pointer, "/bodies/0/fines_content_from_gradation");
+  j["bodies"][0]["gradation"] = "share/gradations/no_such.csv";
+  const auto d = diagnostics_of(j);
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].pointer, "/bodies/0/gradation");
+  EXPECT_EQ(d[0].problem, "unreadable PSD file");
+  j["bodies"][0]["gradation"] = "share/gradations/dem_gap_graded.csv";
+  j["bodies"][0]["fines_content"] = 0.2;
+  EXPECT_EQ(diagnostics_of(j).at(0).problem, "two fines contents");
+}
+
+// An erosion law on a soil every criterion finds stable: validate says so.
+TEST(GradationScene, ValidateWarnsWhenAStableSoilIsEroded) {
+  nlohmann::json j = column();
+  j["bodies"][0]["gradation_points"] = {{0.2, 0}, {0.4, 50}, {0.8, 100}};  // the uniform sand above
+  j["bodies"][0]["fines_content"] = 0.1;
+  const fs::path dir = command::fresh_dir("validate");
+  std::ofstream(dir / "stable.json") << j.dump(1);
+  const std::string line = std::string(SUFFUSE_EXECUTABLE) + " validate " + (dir / "stable.json").string() + " > " +
+                           (dir / "log.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(line.c_str()), 0) << command::slurp(dir / "log.txt");
+  const std::string out = command::slurp(dir / "log.txt");
+  EXPECT_NE(out.find("Kezdi (1979)"), std::string::npos) << out;
+  EXPECT_NE(out.find("warning: body 'column': every applicable criterion finds its gradation stable, yet material "
+                     "'gap_graded_sand' erodes it (erosion/vardoulakis_ccr)"),
+            std::string::npos)
+      << out;
+}
+
+}  // namespace scenes
+
 }  // namespace
