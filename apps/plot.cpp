@@ -13,14 +13,12 @@
 #include <vtkDoubleArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkPen.h>
 #include <vtkPlot.h>
 #include <vtkRenderer.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
 #include <vtkTextRenderer.h>
-#include <vtkWindowToImageFilter.h>
 
 #include <algorithm>
 #include <array>
@@ -35,11 +33,13 @@
 #include <utility>
 
 #include "csv_table.hpp"
+#include "chart_output.hpp"
 #include "offscreen_render_window.hpp"
 
 namespace suffuse::plot {
 
 namespace fs = std::filesystem;
+using render::style_text;
 
 namespace {
 
@@ -161,23 +161,6 @@ constexpr std::array<std::array<unsigned char, 3>, 10> palette{{{31, 119, 180},
                                                                  {188, 189, 34},
                                                                  {23, 190, 207}}};
 constexpr std::array<int, 4> dashes{vtkPen::SOLID_LINE, vtkPen::DASH_LINE, vtkPen::DOT_LINE, vtkPen::DASH_DOT_LINE};
-
-// DejaVu Sans when installed (Debian's fonts-dejavu-core), else VTK's built-in
-// sans-serif font (whose Debian build draws '[' and ']' as parentheses).
-void style_text(vtkTextProperty* t, int size, bool bold) {
-  static const fs::path dejavu = "/usr/share/fonts/truetype/dejavu";
-  const fs::path font = dejavu / (bold ? "DejaVuSans-Bold.ttf" : "DejaVuSans.ttf");
-  std::error_code ec;
-  if (fs::is_regular_file(font, ec)) {
-    t->SetFontFamily(VTK_FONT_FILE);
-    t->SetFontFile(font.c_str());
-  } else {
-    t->SetFontFamilyToArial();
-    t->SetBold(bold);
-  }
-  t->SetFontSize(size);
-  t->SetColor(0, 0, 0);
-}
 
 // Shrinks the font of T until TEXT is at most LENGTH pixels long (down to 10
 // points); whether it changed.
@@ -302,25 +285,7 @@ void render(const std::vector<Series>& series, const PlotOptions& o, const std::
     window->Render();
     messages.check("cannot draw the chart");
 
-    vtkNew<vtkWindowToImageFilter> grab;
-    grab->SetInput(window);
-    grab->SetInputBufferTypeToRGB();
-    grab->ReadFrontBufferOff();
-    grab->ShouldRerenderOff();
-    grab->Update();
-    messages.check("cannot read the image back");
-    int dims[3];
-    grab->GetOutput()->GetDimensions(dims);
-    if (dims[0] != o.width || dims[1] != o.height)
-      throw Error("the image read back is " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
-                  " pixels, not " + std::to_string(o.width) + " x " + std::to_string(o.height));
-
-    vtkNew<vtkPNGWriter> writer;
-    writer->SetFileName(file.c_str());
-    writer->SetInputConnection(grab->GetOutputPort());
-    writer->Write();
-    messages.check("cannot write " + file.string());
-    if (writer->GetErrorCode() != 0) throw Error("cannot write " + file.string());
+    render::write_png(window, o.width, o.height, file, messages);
   }
   messages.report_warnings();
 }

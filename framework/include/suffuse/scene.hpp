@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "suffuse/diagnostics.hpp"
+#include "suffuse/internal_stability.hpp"
 #include "suffuse/parameters.hpp"
 #include "suffuse/plugin.hpp"
 #include "suffuse/plugin_loader.hpp"
@@ -49,6 +50,9 @@ struct BodySpec {
   double fines_content = 0;           // f_c: erodible fines / solid volume, initial [-]
   double ultimate_fines_content = 0;  // f_c_inf: the part of f_c that never erodes [-]
   double concentration = 0;           // c: suspended fines / pore liquid volume, initial [-]
+  std::string gradation_source;       // the body's PSD: its file, or its JSON pointer when inline
+  std::optional<InternalStability> internal_stability;  // the criteria on its gradation, if it has one
+  bool fines_content_from_gradation = false;            // fines_content is the gradation's erodible fines
 };
 
 struct OutputSpec {

@@ -1,0 +1,54 @@
+#include "chart_output.hpp"
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkTextProperty.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <suffuse/error.hpp>
+#include <system_error>
+
+namespace suffuse::render {
+
+namespace fs = std::filesystem;
+
+void style_text(vtkTextProperty* t, int size, bool bold) {
+  static const fs::path dejavu = "/usr/share/fonts/truetype/dejavu";
+  const fs::path font = dejavu / (bold ? "DejaVuSans-Bold.ttf" : "DejaVuSans.ttf");
+  std::error_code ec;
+  if (fs::is_regular_file(font, ec)) {
+    t->SetFontFamily(VTK_FONT_FILE);
+    t->SetFontFile(font.c_str());
+  } else {
+    t->SetFontFamilyToArial();
+    t->SetBold(bold);
+  }
+  t->SetFontSize(size);
+  t->SetColor(0, 0, 0);
+}
+
+void write_png(vtkGenericOpenGLRenderWindow* window, int width, int height, const fs::path& file,
+               const VtkMessages& messages) {
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->ShouldRerenderOff();
+  grab->Update();
+  messages.check("cannot read the image back");
+  int dims[3];
+  grab->GetOutput()->GetDimensions(dims);
+  if (dims[0] != width || dims[1] != height)
+    throw Error("the image read back is " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
+                " pixels, not " + std::to_string(width) + " x " + std::to_string(height));
+
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(file.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  messages.check("cannot write " + file.string());
+  if (writer->GetErrorCode() != 0) throw Error("cannot write " + file.string());
+}
+
+}  // namespace suffuse::render
