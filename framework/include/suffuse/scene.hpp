@@ -57,8 +57,10 @@ struct BodySpec {
 
 struct OutputSpec {
   PluginNode writer;
-  std::optional<double> interval;  // [s]; absent: end time / 20
+  std::optional<double> interval;  // [s]; absent: end time / the writer's default frame count
+  std::optional<std::string> name;  // names its files (output_basename)
 };
+
 
 // A boundary condition whose reaction the run records: the force its
 // velocity constraints exert on the skeleton's nodes, and how far it moved
@@ -110,6 +112,10 @@ struct Scene {
     return false;
   }
 };
+
+// The stem of an output's files: <scene>.<name>, or <scene> when it is the
+// only writer of its type, else <scene>_<index in /outputs>.
+std::string output_basename(const Scene& scene, std::size_t output);
 
 // Reads a scene file, loads the plugins it needs (scene paths, then the
 // default search path) into `registry`, and validates the whole scene against
