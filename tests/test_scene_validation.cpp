@@ -461,7 +461,7 @@ TEST(SceneValidation, UnknownKeyInOutputIsReportedOnce) {
   // plugin_node) and once by the core "output" schema.
   json j = base_scene();
   j["outputs"][0]["intervall"] = 0.4;
-  expect_diagnostics(j, {{"/outputs/0/intervall", "unknown key", "one of {compress, interval, type}",
+  expect_diagnostics(j, {{"/outputs/0/intervall", "unknown key", "one of {compress, interval, name, type}",
                           "\"intervall\"", "writer/vtk_particles"}});
 }
 
