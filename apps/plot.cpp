@@ -29,7 +29,6 @@
 #include <set>
 #include <sstream>
 #include <suffuse/error.hpp>
-#include <system_error>
 #include <utility>
 
 #include "csv_table.hpp"
@@ -39,6 +38,7 @@
 namespace suffuse::plot {
 
 namespace fs = std::filesystem;
+using render::style_axis;
 using render::style_text;
 
 namespace {
@@ -205,14 +205,7 @@ void render(const std::vector<Series>& series, const PlotOptions& o, const std::
       style_text(chart->GetTitleProperties(), 20, true);
     }
     const std::pair<int, const std::string*> axes[] = {{vtkAxis::BOTTOM, &xlabel}, {vtkAxis::LEFT, &ylabel}};
-    for (const auto& [which, label] : axes) {
-      vtkAxis* axis = chart->GetAxis(which);
-      axis->SetTitle(*label);
-      style_text(axis->GetTitleProperties(), 18, true);
-      style_text(axis->GetLabelProperties(), 15, false);
-      axis->GetPen()->SetColor(0, 0, 0);
-      axis->GetGridPen()->SetColor(225, 225, 225);
-    }
+    for (const auto& [which, label] : axes) style_axis(chart->GetAxis(which), *label, 18, 15);
     // Axis ranges a little wider than the data, so that lines along an end of
     // the range stay whole; a flat line gets +-10 % of its value.
     for (const int which : {vtkAxis::BOTTOM, vtkAxis::LEFT}) {
@@ -314,10 +307,7 @@ void write_plot(const PlotOptions& o) {
     throw Error("--width and --height must be between 100 and " + std::to_string(max_pixels) + " pixels");
   if (!std::isfinite(o.scale_x) || !std::isfinite(o.scale_y) || o.scale_x == 0 || o.scale_y == 0)
     throw Error("--scale-x and --scale-y must be finite and not zero");
-  const fs::path dir = o.png.has_parent_path() ? o.png.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw Error("cannot write " + o.png.string() + ": no directory " + dir.string());
-  if (fs::is_directory(o.png, ec)) throw Error("cannot write " + o.png.string() + ": it is a directory");
+  render::check_writable(o.png);
 
   // Read and check everything before drawing anything.
   const std::vector<std::string> names = legend_names(o.files, o.full_names);
@@ -350,16 +340,7 @@ void write_plot(const PlotOptions& o) {
     ylabel = scaled_label(ylabel, o.scale_y);
   }
 
-  // Draw into OUT.png.part, then rename: a reader never sees half a file.
-  const fs::path part = o.png.string() + ".part";
-  try {
-    render(series, o, xlabel, ylabel, part);
-    fs::rename(part, o.png);
-  } catch (const std::exception& e) {
-    fs::remove(part, ec);
-    if (dynamic_cast<const Error*>(&e)) throw;
-    throw Error("cannot write " + o.png.string() + ": " + e.what());
-  }
+  render::write_atomically(o.png, [&](const fs::path& part) { render(series, o, xlabel, ylabel, part); });
 }
 
 }  // namespace suffuse::plot

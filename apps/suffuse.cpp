@@ -30,6 +30,7 @@
 
 #include "gradation_command.hpp"
 #include "plot.hpp"
+#include "subcommand_options.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -431,25 +432,14 @@ int cmd_plot(int argc, char** argv) {
       "legend", po::value<std::string>()->default_value("auto"),
       "legend corner: top-left, top-right, bottom-left, bottom-right, or auto (the corner the lines cross least)")(
       "full-names", "legend with the whole file names (without .csv)");
-  po::options_description hidden;
-  hidden.add_options()("file", po::value<std::vector<std::string>>());
-  po::options_description all;
-  all.add(opts).add(hidden);
-  po::positional_options_description positional;
-  positional.add("file", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << plot_usage << "\n" << opts;
-    return 0;
-  }
+  const auto parsed = suffuse::subcommand::parse(argc, argv, opts, plot_usage);
+  if (!parsed) return 0;
+  const po::variables_map& vm = parsed->options;
   suffuse::plot::PlotOptions o;
   if (vm.count("png")) o.png = vm["png"].as<std::string>();
   if (vm.count("x")) o.x = vm["x"].as<std::string>();
   if (vm.count("y")) o.y = vm["y"].as<std::vector<std::string>>();
-  if (vm.count("file"))
-    for (const auto& f : vm["file"].as<std::vector<std::string>>()) o.files.emplace_back(f);
+  for (const auto& f : parsed->files) o.files.emplace_back(f);
   o.title = vm["title"].as<std::string>();
   o.xlabel = vm["xlabel"].as<std::string>();
   o.ylabel = vm["ylabel"].as<std::string>();
