@@ -6,7 +6,10 @@
 //   suffuse schema
 //   suffuse plot --png OUT.png --x COLUMN --y COLUMN [options] FILE.csv [FILE.csv ...]
 //   suffuse gradation PSD.csv [--json] [--png FILE.png]
+#include <signal.h>
 #include <unistd.h>
+
+#include <atomic>
 
 #include <boost/program_options.hpp>
 #include <chrono>
@@ -288,6 +291,26 @@ int cmd_element(const fs::path& scene_file, const fs::path& output, bool quiet) 
   return 0;
 }
 
+// SIGINT and SIGTERM ask the run to stop after its step (outputs closed, a
+// checkpoint written); a second signal kills at once (SA_RESETHAND). The flag
+// is the one piece of global state: a signal handler can reach nothing else.
+std::atomic<bool> stop_requested{false};
+std::atomic<int> stop_signal{0};
+
+extern "C" void request_stop(int signal) {
+  stop_signal.store(signal);
+  stop_requested.store(true);
+}
+
+void stop_on_signals() {
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
 // What `suffuse run` takes besides the scene.
 struct RunCommand {
   fs::path output;
@@ -342,6 +365,8 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
   options.output_dir = output;
   options.checkpoint_interval = command.checkpoint_every;
   options.restart = command.restart;
+  options.stop = &stop_requested;
+  stop_on_signals();
   auto last = std::chrono::steady_clock::now();
   int next_tenth = 1;
   // A restarted run starts at a later step and time: rates count from there.
@@ -380,6 +405,14 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
   }
   const suffuse::RunSummary s = sim.run(options);
   if (terminal) std::fprintf(stderr, "\n");
+  if (s.interrupted) {
+    const fs::path checkpoint = output / (scene.name + ".checkpoint");
+    std::cerr << "suffuse: interrupted (signal " << stop_signal.load() << ") at t = " << s.simulated_time
+              << " s, step " << sim.steps() << ": every output is closed";
+    if (!output.empty()) std::cerr << "; continue with --restart " << checkpoint.string();
+    std::cerr << "\n";
+    return 128 + stop_signal.load();
+  }
   if (!quiet) {
     const auto& t = s.stages;
     std::cout << "done: " << s.steps << " steps to t = " << s.simulated_time << " s in "
