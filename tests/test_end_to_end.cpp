@@ -514,3 +514,42 @@ TEST(EndToEnd, TerminatedRunClosesItsOutputsAndResumes) {
   EXPECT_NEAR(resumed.back().time, 4.0, 1e-12);
   for (std::size_t k = 1; k < resumed.size(); ++k) EXPECT_GT(resumed[k].time, resumed[k - 1].time) << "each time once";
 }
+
+// Scenes that validate but cannot run well are refused before they allocate
+// or step: memory beyond the machine, a fixed step above the stable one, a
+// run of absurd length; a run that blows up anyway stops naming the point.
+TEST(EndToEnd, ScenesThatCannotRunAreRefusedWithAnEstimate) {
+  const fs::path out = fresh_dir("cannot_run");
+  const auto bar = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  auto refused = [&](const nlohmann::json& j, const std::string& name) {
+    std::ofstream(out / (name + ".json")) << j.dump(2);
+    EXPECT_EQ(run("run " + (out / (name + ".json")).string() + " --quiet --output " + (out / name).string(),
+                  out / (name + ".log")),
+              1)
+        << name;
+    return slurp(out / (name + ".log"));
+  };
+  auto huge = bar;
+  huge["grid"]["cells"] = {20000, 20000};
+  huge["grid"]["cell_size"] = {1e-4, 1e-4};
+  huge["bodies"][0]["max"] = {1.0, 1.0};
+  EXPECT_NE(refused(huge, "huge").find("this scene needs about 355 GiB (4e+08 material points, 4e+08 grid nodes), more than"),
+            std::string::npos)
+      << slurp(out / "huge.log");
+  EXPECT_FALSE(fs::exists(out / "huge")) << "nothing written";
+  auto big_step = bar;
+  big_step["time"]["dt"] = 0.002;  // four times the stable 5e-4 s
+  EXPECT_NE(refused(big_step, "big_step").find("/time/dt = 0.002 s is above this scene's stable time step, 0.0005 s"),
+            std::string::npos);
+  auto stiff = bar;
+  stiff["materials"]["steel_like"]["youngs_modulus"] = 1e300;
+  EXPECT_NE(refused(stiff, "stiff").find("the run would take 1.51789327688e+149 steps"), std::string::npos);
+  auto blowing = big_step;
+  blowing["time"]["dt_above_stable"] = true;
+  EXPECT_NE(refused(blowing, "blowing").find("the run blew up at step 5 (t = 0.01 s): material point 2 of body 'bar'"),
+            std::string::npos)
+      << slurp(out / "blowing.log");
+  const auto frames = read_pvd(out / "blowing" / "blowing.pvd");
+  ASSERT_FALSE(frames.empty()) << "the frames before the blow-up stay listed";
+  EXPECT_TRUE(fs::exists(out / "blowing" / frames.back().file));
+}

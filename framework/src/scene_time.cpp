@@ -15,6 +15,9 @@ ParameterSchema time_schema() {
   s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
       "Multiplies every inertia (not the weight) for quasi-static runs: the automatic step grows by its square "
       "root; dynamics are no longer physical. Printed in the run log and stored in <name>.run.json");
+  s.boolean("dt_above_stable").fallback(false).doc(
+      "Accept a fixed dt above the stable time step (refused otherwise): only for scenes where nothing moves, "
+      "such as an erosion law tested in a closed box. A run that blows up is still stopped, naming the point");
   s.number("checkpoint_interval").with_unit("s").above(0).may_be_absent().doc(
       "Simulated time between checkpoints (<output>/<name>.checkpoint, replaced each time; `suffuse run "
       "--checkpoint-every` overrides it); absent: none during the run");
@@ -33,6 +36,7 @@ void read_time(SceneReader& r, Scene& scene) {
   if (t.has("cfl")) scene.cfl = t.number("cfl");
   if (t.has("mass_scaling")) scene.mass_scaling = t.number("mass_scaling");
   scene.checkpoint_interval = t.maybe_number("checkpoint_interval");
+  if (t.has("dt_above_stable")) scene.dt_above_stable = t.boolean("dt_above_stable");
   if (t.has("checkpoint_at_end")) scene.checkpoint_at_end = t.boolean("checkpoint_at_end");
 }
 

@@ -7,6 +7,9 @@
 #include "domain.hpp"
 #include "dry_momentum.hpp"
 #include "grid_projection.hpp"
+#include "memory_estimate.hpp"
+#include "scene_reader.hpp"
+#include "step_guard.hpp"
 #include "materials.hpp"
 #include "reactions.hpp"
 #include "saturated_mixture.hpp"
@@ -19,7 +22,7 @@ namespace suffuse {
 const char* stage_name(Stage stage) {
   static const char* names[stage_count] = {"shape", "p2g",          "grid",         "g2p",
                                            "remap", "strain",       "pore_pressure", "erosion",
-                                           "permeability", "stress", "transport",    "output"};
+                                           "permeability", "stress", "transport",    "check", "output"};
   return names[static_cast<std::size_t>(stage)];
 }
 
@@ -53,7 +56,7 @@ void SimulationClock::advance() {
 }
 
 Simulation::Simulation(const Scene& scene, const Registry& registry, int threads)
-    : scene_(scene),
+    : scene_((detail::check_memory(scene, threads), scene)),  // before anything is allocated
       domain_(std::make_unique<detail::Domain>(scene, registry, threads)),
       materials_(std::make_unique<detail::Materials>(scene, registry)),
       reactions_(std::make_unique<detail::Reactions>(scene.reactions, scene.dim, scene.damping)) {
@@ -74,10 +77,33 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   materials_->add_fields(domain_->points);
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
+  guard_ = std::make_unique<detail::StepGuard>(
+      scene_, mixture_ ? std::optional<FieldId>(mixture_->fields().porosity) : std::nullopt,
+      mixture_ ? std::optional<FieldId>(mixture_->fields().pressure) : std::nullopt);
   grid_projection_ = std::make_unique<detail::GridProjection>(mixture_ ? &mixture_->fields() : nullptr);
   create_bodies();
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
   clock_ = SimulationClock(scene.dt ? *scene.dt : critical_time_step());
+  check_time_step();
+}
+
+// Scenes that validate but cannot run: a fixed step above the stable one
+// blows up within a few steps; a step so small that the run would not end
+// in a lifetime (a modulus of 1e300, dt = 1e-12) is refused with its count.
+void Simulation::check_time_step() const {
+  const double stable = critical_time_step() / scene_.cfl;
+  if (scene_.dt && *scene_.dt > stable * (1 + 1e-12) && !scene_.dt_above_stable)
+    throw Error("/time/dt = " + detail::format(*scene_.dt) + " s is above this scene's stable time step, " +
+                detail::format(stable) + " s (cell size over the fastest wave speed" +
+                (saturated() ? ", and the drag limit of saturated bodies" : "") +
+                "): the run would blow up; remove /time/dt for the automatic step (or, if nothing moves, set "
+                "/time/dt_above_stable)");
+  const double steps = scene_.end_time / clock_.nominal_dt();
+  if (steps > max_steps)
+    throw Error("the run would take " + detail::format(steps) + " steps of " + detail::format(clock_.nominal_dt()) +
+                " s to reach /time/end = " + detail::format(scene_.end_time) + " s (at most " +
+                detail::format(max_steps) +
+                "): check the moduli and /time/dt, or use /time/mass_scaling for a quasi-static run");
 }
 
 Simulation::~Simulation() = default;
@@ -177,6 +203,7 @@ void Simulation::step() {
   }
   timed(Stage::stress, [&] { materials_->update_stress(d, dt); });  // (effective) stress, phase state
   if (species_) timed(Stage::transport, [&] { species_->transport(dt); });  // liquid and fines cross the grid
+  timed(Stage::check, [&] { guard_->check(d, n + 1, t + dt, dt); });  // a state, not a blow-up
   clock_.advance();
 }
 

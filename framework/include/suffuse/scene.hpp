@@ -94,6 +94,7 @@ struct Scene {
   std::optional<double> dt;  // absent: automatic from the CFL condition
   double cfl = 0.5;
   double mass_scaling = 1;  // inertia factor for quasi-static runs
+  bool dt_above_stable = false;  // a fixed dt above the stable one is accepted
   std::optional<double> checkpoint_interval;  // [s]; absent: no checkpoints during the run
   bool checkpoint_at_end = true;
   // Hash of the scene without what a restart may change (/time/end, the

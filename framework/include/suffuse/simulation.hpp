@@ -37,11 +37,14 @@ class DryMomentum;
 class SaturatedMixture;
 class SpeciesTransport;
 class GridProjection;
+class StepGuard;
 }  // namespace detail
 
 // The stages of a step, in order, and the writing of outputs.
-enum class Stage { shape, p2g, grid, g2p, remap, strain, pore_pressure, erosion, permeability, stress, transport, output };
-inline constexpr std::size_t stage_count = 12;
+enum class Stage {
+  shape, p2g, grid, g2p, remap, strain, pore_pressure, erosion, permeability, stress, transport, check, output
+};
+inline constexpr std::size_t stage_count = 13;
 const char* stage_name(Stage stage);
 
 // Wall time spent in each stage, for the run summary [s].
@@ -116,6 +119,8 @@ class SimulationClock {
 
 class Simulation {
  public:
+  // More steps than this are refused (a run of a week at 1e6 steps per hour).
+  static constexpr double max_steps = 2e8;
   // Builds the parts of a validated scene. `threads` splits every stage into
   // that many contiguous chunks (OpenMP); results depend on the thread count
   // only through the order of floating-point sums.
@@ -161,6 +166,7 @@ class Simulation {
   // The same, measuring the reactions the scene asks for (the grid update's).
   void constrain_velocity_recording_reactions(double time, double dt);
   void write_run_info(const std::filesystem::path& file) const;
+  void check_time_step() const;  // refuses a fixed step above the stable one, and endless runs
   // Checkpoints (checkpoint.cpp): `frames` is how many frames each writer wrote.
   void save_checkpoint(const std::filesystem::path& file, const std::vector<std::size_t>& frames) const;
   // Replaces the evolving state by the checkpoint's; returns the writers' frame counts.
@@ -177,6 +183,7 @@ class Simulation {
   std::unique_ptr<detail::SpeciesTransport> species_;  // saturated runs
   std::vector<std::unique_ptr<Writer>> writers_;
   std::unique_ptr<detail::GridProjection> grid_projection_;  // for writers of grid fields
+  std::unique_ptr<detail::StepGuard> guard_;                 // stops a run that blew up
   SimulationClock clock_{0};
   StageTimes times_;
 };
