@@ -13,14 +13,12 @@
 #include <vtkDoubleArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkPen.h>
 #include <vtkPlot.h>
 #include <vtkRenderer.h>
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
 #include <vtkTextRenderer.h>
-#include <vtkWindowToImageFilter.h>
 
 #include <algorithm>
 #include <array>
@@ -31,11 +29,12 @@
 #include <set>
 #include <sstream>
 #include <suffuse/error.hpp>
-#include <system_error>
 #include <utility>
 
 #include "csv_table.hpp"
 #include "offscreen_render_window.hpp"
+#include "png_file.hpp"
+#include "text_style.hpp"
 
 namespace suffuse::plot {
 
@@ -44,11 +43,6 @@ namespace fs = std::filesystem;
 namespace {
 
 // ---------------------------------------------------------------- series
-
-struct Series {
-  std::string label;
-  std::vector<double> x, y;
-};
 
 // File stems for the legend. With several files, the leading and trailing
 // parts that all stems share are dropped, cut at a '.', '-' or ' ' that is not
@@ -161,23 +155,6 @@ constexpr std::array<std::array<unsigned char, 3>, 10> palette{{{31, 119, 180},
                                                                  {188, 189, 34},
                                                                  {23, 190, 207}}};
 constexpr std::array<int, 4> dashes{vtkPen::SOLID_LINE, vtkPen::DASH_LINE, vtkPen::DOT_LINE, vtkPen::DASH_DOT_LINE};
-
-// DejaVu Sans when installed (Debian's fonts-dejavu-core), else VTK's built-in
-// sans-serif font (whose Debian build draws '[' and ']' as parentheses).
-void style_text(vtkTextProperty* t, int size, bool bold) {
-  static const fs::path dejavu = "/usr/share/fonts/truetype/dejavu";
-  const fs::path font = dejavu / (bold ? "DejaVuSans-Bold.ttf" : "DejaVuSans.ttf");
-  std::error_code ec;
-  if (fs::is_regular_file(font, ec)) {
-    t->SetFontFamily(VTK_FONT_FILE);
-    t->SetFontFile(font.c_str());
-  } else {
-    t->SetFontFamilyToArial();
-    t->SetBold(bold);
-  }
-  t->SetFontSize(size);
-  t->SetColor(0, 0, 0);
-}
 
 // Shrinks the font of T until TEXT is at most LENGTH pixels long (down to 10
 // points); whether it changed.
@@ -302,25 +279,7 @@ void render(const std::vector<Series>& series, const PlotOptions& o, const std::
     window->Render();
     messages.check("cannot draw the chart");
 
-    vtkNew<vtkWindowToImageFilter> grab;
-    grab->SetInput(window);
-    grab->SetInputBufferTypeToRGB();
-    grab->ReadFrontBufferOff();
-    grab->ShouldRerenderOff();
-    grab->Update();
-    messages.check("cannot read the image back");
-    int dims[3];
-    grab->GetOutput()->GetDimensions(dims);
-    if (dims[0] != o.width || dims[1] != o.height)
-      throw Error("the image read back is " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
-                  " pixels, not " + std::to_string(o.width) + " x " + std::to_string(o.height));
-
-    vtkNew<vtkPNGWriter> writer;
-    writer->SetFileName(file.c_str());
-    writer->SetInputConnection(grab->GetOutputPort());
-    writer->Write();
-    messages.check("cannot write " + file.string());
-    if (writer->GetErrorCode() != 0) throw Error("cannot write " + file.string());
+    write_png(grab_image(window, messages, o.width, o.height), messages, file);
   }
   messages.report_warnings();
 }
@@ -344,15 +303,10 @@ void write_plot(const PlotOptions& o) {
   if (o.x.empty()) throw Error("suffuse plot needs --x COLUMN");
   if (o.y.empty()) throw Error("suffuse plot needs at least one --y COLUMN");
   if (o.files.empty()) throw Error("suffuse plot needs at least one CSV file");
-  constexpr int max_pixels = 10000;
-  if (o.width < 100 || o.width > max_pixels || o.height < 100 || o.height > max_pixels)
-    throw Error("--width and --height must be between 100 and " + std::to_string(max_pixels) + " pixels");
+  check_image_size(o.width, o.height);
   if (!std::isfinite(o.scale_x) || !std::isfinite(o.scale_y) || o.scale_x == 0 || o.scale_y == 0)
     throw Error("--scale-x and --scale-y must be finite and not zero");
-  const fs::path dir = o.png.has_parent_path() ? o.png.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw Error("cannot write " + o.png.string() + ": no directory " + dir.string());
-  if (fs::is_directory(o.png, ec)) throw Error("cannot write " + o.png.string() + ": it is a directory");
+  check_output_path(o.png);
 
   // Read and check everything before drawing anything.
   const std::vector<std::string> names = legend_names(o.files, o.full_names);
@@ -385,16 +339,14 @@ void write_plot(const PlotOptions& o) {
     ylabel = scaled_label(ylabel, o.scale_y);
   }
 
+  write_line_chart(series, o, xlabel, ylabel);
+}
+
+void write_line_chart(const std::vector<Series>& series, const PlotOptions& o, const std::string& xlabel,
+                      const std::string& ylabel) {
+  check_output_path(o.png);
   // Draw into OUT.png.part, then rename: a reader never sees half a file.
-  const fs::path part = o.png.string() + ".part";
-  try {
-    render(series, o, xlabel, ylabel, part);
-    fs::rename(part, o.png);
-  } catch (const std::exception& e) {
-    fs::remove(part, ec);
-    if (dynamic_cast<const Error*>(&e)) throw;
-    throw Error("cannot write " + o.png.string() + ": " + e.what());
-  }
+  write_atomically(o.png, [&](const fs::path& part) { render(series, o, xlabel, ylabel, part); });
 }
 
 }  // namespace suffuse::plot

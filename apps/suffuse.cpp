@@ -5,6 +5,7 @@
 //   suffuse describe NAME
 //   suffuse schema
 //   suffuse plot --png OUT.png --x COLUMN --y COLUMN [options] FILE.csv [FILE.csv ...]
+//   suffuse plot profile|map|animate [options] RUN
 #include <unistd.h>
 
 #include <boost/program_options.hpp>
@@ -27,6 +28,7 @@
 #include <suffuse/version.hpp>
 #include <vector>
 
+#include "field_plot_command.hpp"
 #include "plot.hpp"
 
 namespace po = boost::program_options;
@@ -52,6 +54,13 @@ const char* usage =
     "  suffuse plot --png OUT.png --x COLUMN --y COLUMN [--y COLUMN ...] [options] FILE.csv [FILE.csv ...]\n"
     "                                line charts of CSV columns (e.g. element-test results) to a PNG,\n"
     "                                no display needed; suffuse plot --help lists its options\n"
+    "  suffuse plot profile --png OUT.png --field NAME --from X,Y --to X,Y [--times T,T,...] RUN\n"
+    "                                a field along a line at several times (RUN: output directory or .pvd)\n"
+    "  suffuse plot map --png OUT.png --field NAME [--times T,T,...] [--range MIN MAX] RUN\n"
+    "                                a 2D colour map of a field over the body, with a colour bar\n"
+    "  suffuse plot animate --field NAME [--frames DIR] [--gif OUT.gif] RUN\n"
+    "                                that map at every frame: numbered PNGs and an animated GIF\n"
+    "                                (suffuse plot profile --help, ... list their options)\n"
     "Plugins are searched in the scene's plugin_paths, then $SUFFUSE_PLUGIN_PATH, then\n"
     "the bundled plugin directory.\n";
 
@@ -387,7 +396,8 @@ const char* plot_usage =
     "and a.eta_0.55.element.csv give eta_0 and eta_0.55); --full-names keeps it.\n"
     "The PNG is written as OUT.png.part, then renamed; nothing is written on an error.\n"
     "Example: suffuse plot --png strain.png --x eroded_fraction --y erosion_volumetric_strain\n"
-    "           --scale-x 100 --scale-y 100 output/suffosion_element/*.element.csv\n";
+    "           --scale-x 100 --scale-y 100 output/suffosion_element/*.element.csv\n"
+    "Figures of a run's material points: suffuse plot profile, map and animate (each with --help).\n";
 
 int cmd_plot(int argc, char** argv) {
   po::options_description opts("Options of suffuse plot");
@@ -444,6 +454,8 @@ int cmd_plot(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     // plot has options and a list of files of its own.
+    if (argc >= 3 && std::string(argv[1]) == "plot" && suffuse::plot::is_field_plot_mode(argv[2]))
+      return suffuse::plot::field_plot_command(argc - 2, argv + 2);
     if (argc >= 2 && std::string(argv[1]) == "plot") return cmd_plot(argc - 1, argv + 1);
     po::options_description opts("Options");
     opts.add_options()("help,h", "show this help")("version", "print the version")(

@@ -1,0 +1,267 @@
+// Colour maps of a field over a 2D body (see colour_map.hpp).
+#include "colour_map.hpp"
+
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCoordinate.h>
+#include <vtkDoubleArray.h>
+#include <vtkLookupTable.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
+
+#include <algorithm>
+#include <cmath>
+#include <suffuse/error.hpp>
+
+#include "offscreen_render_window.hpp"
+#include "png_file.hpp"
+#include "text_style.hpp"
+#include "vtk_series.hpp"
+
+namespace suffuse::plot {
+
+namespace {
+
+// Pixels: the strip of the colour bar, the band for the time over each panel,
+// the margin around the body.
+constexpr int bar_strip = 190, time_band = 44, margin = 12;
+
+// The boxes of the points as quads in the plane z = 0, with the field as cell
+// data, each PAD wider on every side (so that no seam shows between boxes
+// that a deformation has moved a little apart).
+vtkSmartPointer<vtkPolyData> boxes(vtkPolyData* points, const std::vector<double>& values, double pad) {
+  const auto sizes = point_sizes(points);
+  const vtkIdType n = points->GetNumberOfPoints();
+  vtkNew<vtkPoints> corners;
+  corners->SetDataTypeToDouble();
+  corners->SetNumberOfPoints(4 * n);
+  vtkNew<vtkCellArray> quads;
+  quads->AllocateExact(n, 4 * n);
+  vtkNew<vtkDoubleArray> scalars;
+  scalars->SetNumberOfValues(n);
+  for (vtkIdType p = 0; p < n; ++p) {
+    double x[3];
+    points->GetPoint(p, x);
+    const auto& s = sizes[static_cast<std::size_t>(p)];
+    const double hx = 0.5 * s[0] + pad, hy = 0.5 * s[1] + pad;
+    corners->SetPoint(4 * p, x[0] - hx, x[1] - hy, 0);
+    corners->SetPoint(4 * p + 1, x[0] + hx, x[1] - hy, 0);
+    corners->SetPoint(4 * p + 2, x[0] + hx, x[1] + hy, 0);
+    corners->SetPoint(4 * p + 3, x[0] - hx, x[1] + hy, 0);
+    const vtkIdType ids[4] = {4 * p, 4 * p + 1, 4 * p + 2, 4 * p + 3};
+    quads->InsertNextCell(4, ids);
+    scalars->SetValue(p, values[static_cast<std::size_t>(p)]);
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(corners);
+  poly->SetPolys(quads);
+  poly->GetCellData()->SetScalars(scalars);
+  return poly;
+}
+
+vtkSmartPointer<vtkLookupTable> viridis_table(const std::array<double, 2>& range) {
+  auto table = vtkSmartPointer<vtkLookupTable>::New();
+  constexpr int entries = 256;
+  table->SetNumberOfTableValues(entries);
+  for (int i = 0; i < entries; ++i) {
+    const auto c = viridis(static_cast<double>(i) / (entries - 1));
+    table->SetTableValue(i, c[0], c[1], c[2], 1);
+  }
+  table->SetTableRange(range[0], range[1]);
+  table->SetNanColor(0.6, 0.6, 0.6, 1);
+  return table;
+}
+
+std::string title_of(const std::vector<MapPanel>& panels) {
+  return panels.empty() ? std::string() : panels.front().field.label;
+}
+
+}  // namespace
+
+std::array<double, 3> viridis(double f) {
+  // matplotlib's viridis (public domain) at 0, 1/8, ..., 1.
+  static constexpr std::array<std::array<int, 3>, 9> knots{{{68, 1, 84},
+                                                           {71, 44, 122},
+                                                           {59, 81, 139},
+                                                           {44, 113, 142},
+                                                           {33, 144, 141},
+                                                           {39, 173, 129},
+                                                           {92, 200, 99},
+                                                           {170, 220, 50},
+                                                           {253, 231, 37}}};
+  const double u = std::clamp(std::isfinite(f) ? f : 0.0, 0.0, 1.0) * (knots.size() - 1);
+  const std::size_t k = std::min(static_cast<std::size_t>(u), knots.size() - 2);
+  const double w = u - static_cast<double>(k);
+  std::array<double, 3> c{};
+  for (int i = 0; i < 3; ++i) c[i] = ((1 - w) * knots[k][i] + w * knots[k + 1][i]) / 255.0;
+  return c;
+}
+
+double MapLayout::scale() const {
+  const double pw = in_row ? static_cast<double>(width - bar_strip) / panels : width - bar_strip;
+  const double ph = in_row ? height : static_cast<double>(height) / panels;
+  return std::max((body[1] - body[0]) / (pw - 2 * margin), (body[3] - body[2]) / (ph - time_band - margin));
+}
+
+std::array<double, 4> MapLayout::viewport(int panel) const {
+  const double bar = static_cast<double>(bar_strip) / width;
+  if (in_row) {
+    const double w = (1 - bar) / panels;
+    return {panel * w, 0, (panel + 1) * w, 1};
+  }
+  const double h = 1.0 / panels;
+  return {0, 1 - (panel + 1) * h, 1 - bar, 1 - panel * h};
+}
+
+std::array<double, 2> MapLayout::pixel(int panel, double x, double y) const {
+  const auto v = viewport(panel);
+  const double x0 = v[0] * width, y0 = v[1] * height, pw = (v[2] - v[0]) * width, ph = (v[3] - v[1]) * height;
+  const double s = scale();
+  return {x0 + pw / 2 + (x - 0.5 * (body[0] + body[1])) / s,
+          y0 + margin + (ph - time_band - margin) / 2 + (y - 0.5 * (body[2] + body[3])) / s};
+}
+
+MapLayout map_layout(const std::array<double, 4>& body, int panels, int width, int height) {
+  const double bw = body[1] - body[0], bh = body[3] - body[2];
+  if (!(bw > 0) || !(bh > 0) || !std::isfinite(bw) || !std::isfinite(bh))
+    throw Error("the body has no extent to draw (its boxes span " + std::to_string(bw) + " x " + std::to_string(bh) +
+                " m)");
+  if (width < 0 || height < 0) throw Error("--width and --height must be positive (or 0: from the body's shape)");
+  MapLayout layout;
+  layout.body = body;
+  layout.panels = std::max(1, panels);
+  layout.in_row = bw <= bh;
+  const double aspect = bw / bh;
+  if (layout.in_row) {
+    layout.height = height > 0 ? height : 800;
+    const double body_height = layout.height - time_band - margin;
+    const int panel = std::max(150, static_cast<int>(std::ceil(aspect * body_height)) + 2 * margin);
+    layout.width = width > 0 ? width : std::min(10000, layout.panels * panel + bar_strip);
+  } else {
+    layout.width = width > 0 ? width : 1100;
+    const double body_width = layout.width - bar_strip - 2 * margin;
+    const int panel = std::max(120, static_cast<int>(std::ceil(body_width / aspect)) + time_band + margin);
+    layout.height = height > 0 ? height : std::min(10000, layout.panels * panel);
+  }
+  check_image_size(layout.width, layout.height);
+  const double pw = layout.in_row ? static_cast<double>(layout.width - bar_strip) / layout.panels
+                                  : layout.width - bar_strip;
+  const double ph = layout.in_row ? layout.height : static_cast<double>(layout.height) / layout.panels;
+  if (pw < 2 * margin + 10 || ph < time_band + margin + 10)
+    throw Error("an image of " + std::to_string(layout.width) + " x " + std::to_string(layout.height) +
+                " pixels leaves too little room for " + std::to_string(layout.panels) + " panel(s) and the colour bar");
+  return layout;
+}
+
+std::array<double, 4> body_bounds(vtkPolyData* points) {
+  const auto sizes = point_sizes(points);
+  std::array<double, 4> b{1e300, -1e300, 1e300, -1e300};
+  for (vtkIdType p = 0; p < points->GetNumberOfPoints(); ++p) {
+    double x[3];
+    points->GetPoint(p, x);
+    const auto& s = sizes[static_cast<std::size_t>(p)];
+    b[0] = std::min(b[0], x[0] - 0.5 * s[0]), b[1] = std::max(b[1], x[0] + 0.5 * s[0]);
+    b[2] = std::min(b[2], x[1] - 0.5 * s[1]), b[3] = std::max(b[3], x[1] + 0.5 * s[1]);
+  }
+  return b;
+}
+
+vtkSmartPointer<vtkImageData> draw_colour_map(const MapLayout& layout, const std::vector<MapPanel>& panels,
+                                              const std::array<double, 2>& range) {
+  for (const auto& p : panels)
+    if (!is_planar(p.points))
+      throw Error("colour maps are drawn for 2D runs (points in the plane z = 0); this run is 3D: "
+                  "draw profiles (suffuse plot profile) or open the series in ParaView");
+  const auto table = viridis_table(range);
+
+  render::VtkMessages messages;
+  render::OffscreenRenderWindow offscreen(layout.width, layout.height);
+  vtkGenericOpenGLRenderWindow* window = offscreen.window();
+  messages.check("cannot initialise OpenGL");
+  vtkSmartPointer<vtkImageData> image;
+  {
+    std::vector<vtkSmartPointer<vtkRenderer>> renderers;
+    const double s = layout.scale();
+    for (std::size_t k = 0; k < panels.size(); ++k) {
+      const auto v = layout.viewport(static_cast<int>(k));
+      auto renderer = vtkSmartPointer<vtkRenderer>::New();
+      renderer->SetViewport(v.data());
+      renderer->SetBackground(1, 1, 1);
+
+      vtkNew<vtkPolyDataMapper> mapper;
+      mapper->SetInputData(boxes(panels[k].points, panels[k].field.values, 0.5 * s));  // half a pixel
+      mapper->SetScalarModeToUseCellData();
+      mapper->SetLookupTable(table);
+      mapper->SetScalarRange(range[0], range[1]);
+      mapper->UseLookupTableScalarRangeOff();
+      vtkNew<vtkActor> actor;
+      actor->SetMapper(mapper);
+      actor->GetProperty()->LightingOff();  // the colours of the scale, unshaded
+      renderer->AddActor(actor);
+
+      vtkNew<vtkTextActor> time;
+      time->SetInput(time_label(panels[k].time).c_str());
+      style_text(time->GetTextProperty(), 18, true);
+      time->GetTextProperty()->SetJustificationToCentered();
+      time->GetTextProperty()->SetVerticalJustificationToCentered();
+      const double ph = (v[3] - v[1]) * layout.height;
+      time->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+      time->GetPositionCoordinate()->SetValue(0.5, 1 - 0.5 * time_band / ph);
+      renderer->AddActor2D(time);
+
+      // The body's centre at the middle of the panel below the time band.
+      vtkCamera* camera = renderer->GetActiveCamera();
+      camera->ParallelProjectionOn();
+      const double cx = 0.5 * (layout.body[0] + layout.body[1]);
+      const double cy = 0.5 * (layout.body[2] + layout.body[3]) + s * (time_band - margin) / 2;
+      camera->SetFocalPoint(cx, cy, 0);
+      camera->SetPosition(cx, cy, 1);
+      camera->SetViewUp(0, 1, 0);
+      camera->SetParallelScale(s * ph / 2);
+      camera->SetClippingRange(0.5, 1.5);
+      window->AddRenderer(renderer);
+      renderers.push_back(renderer);
+    }
+
+    auto bar_renderer = vtkSmartPointer<vtkRenderer>::New();
+    const double bar = static_cast<double>(bar_strip) / layout.width;
+    bar_renderer->SetViewport(1 - bar, 0, 1, 1);
+    bar_renderer->SetBackground(1, 1, 1);
+    vtkNew<vtkScalarBarActor> scale_bar;
+    scale_bar->SetLookupTable(table);
+    scale_bar->SetTitle(title_of(panels).c_str());
+    scale_bar->SetNumberOfLabels(6);
+    scale_bar->SetLabelFormat("%.3g");
+    scale_bar->UnconstrainedFontSizeOn();
+    style_text(scale_bar->GetTitleTextProperty(), 16, true);
+    style_text(scale_bar->GetLabelTextProperty(), 15, false);
+    scale_bar->GetLabelTextProperty()->ShadowOff();
+    scale_bar->GetTitleTextProperty()->ShadowOff();
+    scale_bar->SetMaximumWidthInPixels(bar_strip - 20);
+    scale_bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    scale_bar->GetPositionCoordinate()->SetValue(0.08, 0.1);
+    scale_bar->SetWidth(0.84);
+    scale_bar->SetHeight(std::min(0.8, 600.0 / layout.height));
+    scale_bar->SetBarRatio(0.25);
+    scale_bar->SetVerticalTitleSeparation(12);  // the top label clear of the title
+    bar_renderer->AddActor2D(scale_bar);
+    window->AddRenderer(bar_renderer);
+    renderers.push_back(bar_renderer);
+
+    window->Render();
+    messages.check("cannot draw the colour map");
+    image = grab_image(window, messages, layout.width, layout.height);
+    for (auto& r : renderers) window->RemoveRenderer(r);
+  }
+  messages.report_warnings();
+  return image;
+}
+
+}  // namespace suffuse::plot
