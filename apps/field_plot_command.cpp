@@ -23,8 +23,9 @@ const char* profile_usage =
     "                            [--times T,T,...] [options] RUN\n"
     "Draws a field of the material points along the line from --from to --to, one line per time, into a\n"
     "PNG (with several --field, one PNG each: OUT.<field>.png). RUN is a run's output directory or its\n"
-    ".pvd. The points taken are those whose box the line passes through (--band W: those at most W m\n"
-    "from it), between the two ends, at their distance along the line. Each time is drawn from the\n"
+    ".pvd. The points taken are those whose box, a tenth larger, the line passes through (--band W:\n"
+    "those at most W m from it), between the two ends, at their distance along the line; a line along\n"
+    "the edge between two rows of points takes both. Each time is drawn from the\n"
     "nearest frame (the command says when that is not the time asked for); by default four times\n"
     "spread evenly over the run.\n"
     "A NAME is a field of the points (porosity, fines_content, concentration, ...), or NAME:x, NAME:y,\n"
@@ -89,12 +90,13 @@ std::vector<double> parse_times(const po::variables_map& vm) {
   return parse_numbers(args, "--times");
 }
 
-// ARGV[1..ARGC) with "--range MIN MAX" joined into one argument "--range=MIN,MAX":
-// boost would take the run after them as a third value.
-std::vector<std::string> joined_range(int argc, char** argv) {
+// ARGV[1..ARGC) with "--range MIN MAX" joined into one argument "--range=MIN,MAX"
+// (boost would take the run after them as a third value) and -h as --help.
+std::vector<std::string> normalised_arguments(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  for (std::size_t i = 0; i + 1 < args.size(); ++i) {
-    if (args[i] != "--range") continue;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "-h") args[i] = "--help";
+    if (args[i] != "--range" || i + 1 == args.size()) continue;
     const bool two = args[i + 1].find(',') == std::string::npos && i + 2 < args.size();
     args[i] = "--range=" + args[i + 1] + (two ? "," + args[i + 2] : "");
     args.erase(args.begin() + static_cast<std::ptrdiff_t>(i) + 1, args.begin() + static_cast<std::ptrdiff_t>(i) + (two ? 3 : 2));
@@ -109,7 +111,7 @@ bool is_field_plot_mode(const std::string& name) { return name == "profile" || n
 int field_plot_command(int argc, char** argv) {
   const std::string mode = argv[0];
   po::options_description opts("Options of suffuse plot " + mode);
-  opts.add_options()("help", "show this help")("field", po::value<std::vector<std::string>>(),
+  opts.add_options()("help,h", "show this help")("field", po::value<std::vector<std::string>>(),
                                                   mode == "profile" ? "a field to draw; repeat for more"
                                                                     : "the field to draw (required)");
   if (mode != "animate")
@@ -145,7 +147,7 @@ int field_plot_command(int argc, char** argv) {
   po::variables_map vm;
   // No short options, so that a negative number (--from -0.1,0) is a value.
   const auto style = po::command_line_style::unix_style ^ po::command_line_style::allow_short;
-  po::store(po::command_line_parser(joined_range(argc, argv)).options(all).positional(positional).style(style).run(),
+  po::store(po::command_line_parser(normalised_arguments(argc, argv)).options(all).positional(positional).style(style).run(),
             vm);
   po::notify(vm);
   const char* usage = mode == "profile" ? profile_usage : mode == "map" ? map_usage : animate_usage;

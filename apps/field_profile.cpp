@@ -16,8 +16,10 @@ bool crosses_box(const std::array<double, 3>& a, const std::array<double, 3>& d,
                  const std::array<double, 3>& size) {
   double t0 = -std::numeric_limits<double>::max(), t1 = std::numeric_limits<double>::max();
   for (int k = 0; k < 3; ++k) {
-    // A relative slack so that a line along the edge between two boxes takes both.
-    const double half = 0.5 * size[k] * (1 + 1e-9) + 1e-12;
+    // Boxes a tenth larger: a line along the edge between two rows of points
+    // (the axis of a body two points wide) takes both rows, also where the
+    // boxes, which the file gives as squares of the points' volumes, shrank.
+    const double half = 0.55 * size[k] + 1e-12;
     if (std::abs(d[k]) < 1e-14) {
       if (std::abs(a[k] - p[k]) > half) return false;
       continue;

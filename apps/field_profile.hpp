@@ -21,8 +21,9 @@ struct ProfileSample {
 
 // The points of POINTS near LINE (between its ends), with VALUES (one per
 // point), by increasing s. Without a band a point is taken when the line
-// passes through its box (SIZES, one per point; boxes the line only touches
-// count), which for even points is a band half a point wide on each side.
+// passes through its box (SIZES, one per point) made a tenth larger: for even
+// points a band about half a point wide on each side, and a line along the
+// edge between two rows of points takes both.
 // Throws suffuse::Error when the ends coincide; empty when no point is near.
 std::vector<ProfileSample> extract_profile(vtkPolyData* points, const std::vector<double>& values,
                                            const std::vector<std::array<double, 3>>& sizes, const ProfileLine& line);

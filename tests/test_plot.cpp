@@ -27,6 +27,7 @@
 #include <suffuse/error.hpp>
 
 #include "animation.hpp"
+#include "test_support.hpp"
 #include "colour_map.hpp"
 #include "field_profile.hpp"
 #include "point_field.hpp"
@@ -449,6 +450,46 @@ TEST(Animation, OneFramePerOutputAndALoopingGif) {
   EXPECT_NE(slurp(dir / "log.txt").find("needs --frames DIR"), std::string::npos);
   EXPECT_EQ(plot(dir, "animate --field fines --frames none run"), 1);
   EXPECT_FALSE(fs::exists(dir / "none"));
+}
+
+}  // namespace
+
+namespace {
+
+// The default scene for a moment, then its figures: the fields carry their
+// units, and the boxes come from the points' volumes.
+TEST(PointSeries, FiguresOfARealRun) {
+  const fs::path dir = fresh_dir("real_run");
+  auto scene = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  scene["time"]["end"] = 0.3;
+  scene["outputs"][0]["interval"] = 0.1;
+  std::ofstream(dir / "column.json") << scene.dump(2);
+  const std::string run = "cd " + dir.string() + " && " + SUFFUSE_EXECUTABLE + " run column.json --quiet > run.txt 2>&1";
+  ASSERT_EQ(std::system(run.c_str()), 0) << slurp(dir / "run.txt");
+
+  const PointSeries series = read_point_series(dir / "output/column");
+  ASSERT_GE(series.frames.size(), 4u);
+  const auto points = read_frame(series.frames.back());
+  EXPECT_EQ(point_field(points, "porosity").label, "porosity [-]");
+  EXPECT_EQ(point_field(points, "velocity:y").label, "velocity y [m/s]");
+  // 8 x 80 points of 5 mm over the 4 cm x 40 cm column.
+  const auto body = body_bounds(points);
+  EXPECT_NEAR(body[1] - body[0], 0.04, 1e-3);
+  EXPECT_NEAR(body[3] - body[2], 0.4, 1e-3);
+  // The axis: two columns of points, each height twice.
+  const auto profile = extract_profile(points, point_field(points, "porosity").values, point_sizes(points),
+                                       {{0.02, 0, 0}, {0.02, 0.4, 0}, 0});
+  EXPECT_EQ(profile.size(), 160u);
+
+  ASSERT_EQ(plot(dir, "profile --png axis.png --field porosity --field fines_content --from 0.02,0 --to 0.02,0.4 "
+                      "output/column"),
+            0)
+      << slurp(dir / "log.txt");
+  EXPECT_TRUE(fs::exists(dir / "axis.porosity.png"));
+  EXPECT_TRUE(fs::exists(dir / "axis.fines_content.png"));
+  ASSERT_EQ(plot(dir, "map --png map.png --field fines_content --times 0,0.3 output/column"), 0)
+      << slurp(dir / "log.txt");
+  EXPECT_GT(colour_count(read_png(dir / "map.png")), 20u);
 }
 
 }  // namespace
