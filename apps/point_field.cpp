@@ -32,7 +32,7 @@ std::string available_fields(vtkPointData* data) {
     if (array->GetNumberOfComponents() > 1) {
       entry += " (";
       for (const auto& c : component_names(array)) entry += entry.back() == '(' ? ":" + c : ", :" + c;
-      entry += ", :magnitude)";
+      entry += array->GetNumberOfComponents() == 3 ? ", :magnitude)" : ")";
     }
     list += (list.empty() ? "" : ", ") + entry;
   }
@@ -50,10 +50,16 @@ PointField point_field(vtkPolyData* points, const std::string& spec) {
   if (!array) throw Error("no field '" + name + "'; the fields are: " + available_fields(data));
 
   const int n = array->GetNumberOfComponents();
-  // -1: the magnitude.
+  // -1: the magnitude, of a vector only (a tensor's would depend on how its
+  // components are stored).
   int which = n == 1 ? 0 : -1;
   if (n == 1 && !component.empty())
     throw Error("field '" + name + "' is a scalar: it has no component '" + component + "'");
+  if (n != 1 && n != 3 && (component.empty() || component == "magnitude")) {
+    std::string list;
+    for (const auto& c : component_names(array)) list += (list.empty() ? "" : ", ") + name + ":" + c;
+    throw Error("field '" + name + "' has " + std::to_string(n) + " components: name one (" + list + ")");
+  }
   if (n > 1 && !component.empty() && component != "magnitude") {
     const auto names = component_names(array);
     which = -2;
@@ -62,7 +68,8 @@ PointField point_field(vtkPolyData* points, const std::string& spec) {
     if (which == -2) {
       std::string list;
       for (const auto& c : names) list += c + ", ";
-      throw Error("field '" + name + "' has no component '" + component + "'; expected one of " + list + "magnitude");
+      throw Error("field '" + name + "' has no component '" + component + "'; expected one of " +
+                  (n == 3 ? list + "magnitude" : list.substr(0, list.size() - 2)));
     }
   }
 

@@ -19,7 +19,7 @@ struct PointField {
 // The field SPEC of POINTS: an array name, or NAME:COMPONENT for an array of
 // several components, where COMPONENT is x, y, z (vectors), a component name
 // the file gives (XX, YY, ZZ, XY, YZ, XZ for stress and strain), a component
-// index from 0, or magnitude (the default for a vector). Throws
+// index from 0, or magnitude (a vector's default; a tensor needs a component). Throws
 // suffuse::Error naming the fields and components there are.
 PointField point_field(vtkPolyData* points, const std::string& spec);
 

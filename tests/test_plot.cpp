@@ -163,12 +163,16 @@ void write_frame(const fs::path& file, double t) {
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();  // as suffuse writes them
   vtkNew<vtkCellArray> vertices;
-  vtkNew<vtkDoubleArray> phi, velocity, volume;
+  vtkNew<vtkDoubleArray> phi, velocity, volume, stress;
   phi->SetName("porosity");
   phi->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "-");
   velocity->SetName("velocity");
   velocity->SetNumberOfComponents(3);
   volume->SetName("volume");
+  stress->SetName("stress");  // as writer/vtk_particles names a symmetric tensor's components
+  stress->SetNumberOfComponents(6);
+  const char* components[] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+  for (int c = 0; c < 6; ++c) stress->SetComponentName(c, components[c]);
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 10; ++j) {
       const double x = 0.05 + 0.1 * i, y = 0.05 + 0.1 * j;
@@ -177,11 +181,12 @@ void write_frame(const fs::path& file, double t) {
       phi->InsertNextValue(porosity(y, t));
       velocity->InsertNextTuple3(3, 4, 0);
       volume->InsertNextValue(0.01);
+      stress->InsertNextTuple6(-1, -2, -3, 0.5, 0, 0);
     }
   vtkNew<vtkPolyData> poly;
   poly->SetPoints(points);
   poly->SetVerts(vertices);
-  for (vtkDoubleArray* a : {phi.Get(), velocity.Get(), volume.Get()}) poly->GetPointData()->AddArray(a);
+  for (vtkDoubleArray* a : {phi.Get(), velocity.Get(), volume.Get(), stress.Get()}) poly->GetPointData()->AddArray(a);
   vtkNew<vtkXMLPolyDataWriter> writer;
   writer->SetFileName(file.c_str());
   writer->SetInputData(poly);
@@ -272,9 +277,14 @@ TEST(PointField, ScalarsComponentsMagnitudesAndUnits) {
   EXPECT_EQ(point_field(points, "velocity").values[7], 5);  // magnitude
   EXPECT_EQ(point_field(points, "velocity").label, "velocity magnitude");
   std::string error = error_of([&] { point_field(points, "fines_content"); });
-  EXPECT_NE(error.find("no field 'fines_content'; the fields are: porosity, velocity (:x, :y, :z, :magnitude), volume"),
+  EXPECT_NE(error.find("no field 'fines_content'; the fields are: porosity, velocity (:x, :y, :z, :magnitude), volume, "
+                       "stress (:XX, :YY, :ZZ, :XY, :YZ, :XZ)"),
             std::string::npos)
       << error;
+  EXPECT_EQ(point_field(points, "stress:XY").values[3], 0.5);
+  EXPECT_EQ(point_field(points, "stress:XY").label, "stress XY");
+  error = error_of([&] { point_field(points, "stress"); });
+  EXPECT_NE(error.find("field 'stress' has 6 components: name one (stress:XX, stress:YY"), std::string::npos) << error;
   error = error_of([&] { point_field(points, "velocity:w"); });
   EXPECT_NE(error.find("has no component 'w'; expected one of x, y, z, magnitude"), std::string::npos) << error;
   EXPECT_NE(error_of([&] { point_field(points, "porosity:x"); }).find("is a scalar"), std::string::npos);
