@@ -56,10 +56,11 @@ void write_animation(const AnimationOptions& o, std::ostream& log) {
 
   if (!o.frames.empty()) fs::create_directories(o.frames);
   std::vector<vtkSmartPointer<vtkImageData>> images;
+  ColourMapCanvas canvas(layout);
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const auto points = read_frame(series.frames[frames[k]]);
     const MapPanel panel{points, point_field(points, o.field), series.frames[frames[k]].time};
-    auto image = draw_colour_map(layout, {panel}, range);
+    auto image = canvas.draw({panel}, range);
     if (!o.frames.empty())
       write_atomically(frame_png(o.frames, o.field, k), [&](const fs::path& part) {
         render::VtkMessages messages;

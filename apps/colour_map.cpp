@@ -173,18 +173,28 @@ std::array<double, 4> body_bounds(vtkPolyData* points) {
   return b;
 }
 
-vtkSmartPointer<vtkImageData> draw_colour_map(const MapLayout& layout, const std::vector<MapPanel>& panels,
-                                              const std::array<double, 2>& range) {
+ColourMapCanvas::ColourMapCanvas(const MapLayout& layout)
+    : layout_(layout),
+      messages_(std::make_unique<render::VtkMessages>()),
+      window_(std::make_unique<render::OffscreenRenderWindow>(layout.width, layout.height)) {
+  messages_->check("cannot initialise OpenGL");
+}
+
+ColourMapCanvas::~ColourMapCanvas() {
+  window_.reset();  // before the messages stop being collected
+  messages_->report_warnings();
+}
+
+vtkSmartPointer<vtkImageData> ColourMapCanvas::draw(const std::vector<MapPanel>& panels,
+                                                    const std::array<double, 2>& range) {
   for (const auto& p : panels)
     if (!is_planar(p.points))
       throw Error("colour maps are drawn for 2D runs (points in the plane z = 0); this run is 3D: "
                   "draw profiles (suffuse plot profile) or open the series in ParaView");
   const auto table = viridis_table(range);
-
-  render::VtkMessages messages;
-  render::OffscreenRenderWindow offscreen(layout.width, layout.height);
-  vtkGenericOpenGLRenderWindow* window = offscreen.window();
-  messages.check("cannot initialise OpenGL");
+  const MapLayout& layout = layout_;
+  const render::VtkMessages& messages = *messages_;
+  vtkGenericOpenGLRenderWindow* window = window_->window();
   vtkSmartPointer<vtkImageData> image;
   {
     std::vector<vtkSmartPointer<vtkRenderer>> renderers;
@@ -260,7 +270,6 @@ vtkSmartPointer<vtkImageData> draw_colour_map(const MapLayout& layout, const std
     image = grab_image(window, messages, layout.width, layout.height);
     for (auto& r : renderers) window->RemoveRenderer(r);
   }
-  messages.report_warnings();
   return image;
 }
 

@@ -8,9 +8,11 @@
 #include <vtkSmartPointer.h>
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "offscreen_render_window.hpp"
 #include "point_field.hpp"
 
 namespace suffuse::plot {
@@ -50,10 +52,24 @@ struct MapPanel {
   double time = 0;
 };
 
-// Draws PANELS with LAYOUT, the colour scale spanning RANGE (values outside
-// take its end colours), and returns the image. Throws suffuse::Error when
-// the run is not 2D or the drawing fails.
-vtkSmartPointer<vtkImageData> draw_colour_map(const MapLayout& layout, const std::vector<MapPanel>& panels,
-                                              const std::array<double, 2>& range);
+// An offscreen window of a layout's size that draws colour maps, one after
+// another (an animation's frames share its OpenGL context and shaders).
+class ColourMapCanvas {
+ public:
+  explicit ColourMapCanvas(const MapLayout& layout);  // throws suffuse::Error without OpenGL
+  ~ColourMapCanvas();
+  ColourMapCanvas(const ColourMapCanvas&) = delete;
+  ColourMapCanvas& operator=(const ColourMapCanvas&) = delete;
+
+  // Draws PANELS, the colour scale spanning RANGE (values outside take its
+  // end colours), and returns the image. Throws suffuse::Error when the run
+  // is not 2D or the drawing fails.
+  vtkSmartPointer<vtkImageData> draw(const std::vector<MapPanel>& panels, const std::array<double, 2>& range);
+
+ private:
+  MapLayout layout_;
+  std::unique_ptr<render::VtkMessages> messages_;        // first: sees the window's errors too
+  std::unique_ptr<render::OffscreenRenderWindow> window_;
+};
 
 }  // namespace suffuse::plot

@@ -9,6 +9,7 @@
 #include <suffuse/error.hpp>
 
 #include "colour_map.hpp"
+#include "format_number.hpp"
 #include "offscreen_render_window.hpp"
 #include "png_file.hpp"
 #include "point_field.hpp"
@@ -18,12 +19,6 @@ namespace suffuse::plot {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string format_number(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
-}
 
 std::string format_point(const std::array<double, 3>& p) {
   std::ostringstream out;
@@ -149,9 +144,11 @@ void write_map(const MapOptions& o, std::ostream& log) {
     points.push_back(read_frame(series.frames[f]));
     panels.push_back({points.back(), point_field(points.back(), o.field), series.frames[f].time});
   }
+  ColourMapCanvas canvas(layout);
+  const auto image = canvas.draw(panels, range);
   write_atomically(o.png, [&](const fs::path& part) {
     render::VtkMessages messages;
-    write_png(draw_colour_map(layout, panels, range), messages, part);
+    write_png(image, messages, part);
   });
   log << "wrote " << o.png.string() << " (" << panels.front().field.label << " from " << format_number(range[0])
       << " to " << format_number(range[1]) << ")\n";

@@ -32,6 +32,7 @@
 #include <utility>
 
 #include "csv_table.hpp"
+#include "format_number.hpp"
 #include "offscreen_render_window.hpp"
 #include "png_file.hpp"
 #include "text_style.hpp"
@@ -102,12 +103,6 @@ std::vector<std::string> legend_names(const std::vector<fs::path>& files, bool f
     if (!out.empty()) return out;
   }
   return stems;
-}
-
-std::string format_number(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
 }
 
 std::string scaled_label(const std::string& header, double scale) {

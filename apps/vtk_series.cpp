@@ -15,6 +15,7 @@
 #include <suffuse/error.hpp>
 #include <system_error>
 
+#include "format_number.hpp"
 #include "offscreen_render_window.hpp"
 
 namespace suffuse::plot {
@@ -22,12 +23,6 @@ namespace suffuse::plot {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string format_number(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
-}
 
 // The .pvd that PATH names, or that the directory PATH holds.
 fs::path find_pvd(const fs::path& path) {
