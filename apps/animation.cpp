@@ -50,7 +50,9 @@ void write_animation(const AnimationOptions& o, std::ostream& log) {
 
   // The initial frame fixes the view; the scale is read from every frame,
   // which also checks that each has the field before anything is drawn.
-  const MapLayout layout = map_layout(body_bounds(read_frame(series.frames.front())), 1, o.width, o.height);
+  const auto initial = read_frame(series.frames.front());
+  const MapPlane plane = map_plane(initial, o.slice);
+  const MapLayout layout = map_layout(body_bounds(initial, plane), 1, o.width, o.height, plane);
   std::array<double, 2> range = series_range(series, o.field);
   if (o.range) range = *o.range;
 

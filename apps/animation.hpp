@@ -17,6 +17,7 @@ struct AnimationOptions {
   std::filesystem::path gif;     // an animated GIF; empty: none
   std::optional<std::array<double, 2>> range;  // empty: the field's range over the whole series
   int width = 0, height = 0;                   // 0: from the body's shape
+  std::string slice;                           // of a 3D run: "x=X", "y=Y" or "z=Z" (colour_map.hpp)
   double seconds_per_frame = 0.1;              // of the GIF
   int every = 1;                               // draw every N-th frame of the series
 };

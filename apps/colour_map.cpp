@@ -18,9 +18,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <suffuse/error.hpp>
 
 #include "offscreen_render_window.hpp"
+#include "format_number.hpp"
 #include "png_file.hpp"
 #include "text_style.hpp"
 #include "vtk_series.hpp"
@@ -33,31 +36,30 @@ namespace {
 // the margin around the body.
 constexpr int bar_strip = 190, time_band = 44, margin = 12;
 
-// The boxes of the points as quads in the plane z = 0, with the field as cell
-// data, each PAD wider on every side (so that no seam shows between boxes
-// that a deformation has moved a little apart).
-vtkSmartPointer<vtkPolyData> boxes(vtkPolyData* points, const std::vector<double>& values, double pad) {
+// The boxes of the points in PLANE as quads in its coordinates (at z = 0),
+// with the field as cell data, each PAD wider on every side (so that no seam
+// shows between boxes that a deformation has moved a little apart).
+vtkSmartPointer<vtkPolyData> boxes(vtkPolyData* points, const std::vector<double>& values, double pad,
+                                   const MapPlane& plane) {
   const auto sizes = point_sizes(points);
-  const vtkIdType n = points->GetNumberOfPoints();
+  const auto [u, v] = plane.drawn();
   vtkNew<vtkPoints> corners;
   corners->SetDataTypeToDouble();
-  corners->SetNumberOfPoints(4 * n);
   vtkNew<vtkCellArray> quads;
-  quads->AllocateExact(n, 4 * n);
   vtkNew<vtkDoubleArray> scalars;
-  scalars->SetNumberOfValues(n);
-  for (vtkIdType p = 0; p < n; ++p) {
+  for (vtkIdType p = 0; p < points->GetNumberOfPoints(); ++p) {
     double x[3];
     points->GetPoint(p, x);
     const auto& s = sizes[static_cast<std::size_t>(p)];
-    const double hx = 0.5 * s[0] + pad, hy = 0.5 * s[1] + pad;
-    corners->SetPoint(4 * p, x[0] - hx, x[1] - hy, 0);
-    corners->SetPoint(4 * p + 1, x[0] + hx, x[1] - hy, 0);
-    corners->SetPoint(4 * p + 2, x[0] + hx, x[1] + hy, 0);
-    corners->SetPoint(4 * p + 3, x[0] - hx, x[1] + hy, 0);
-    const vtkIdType ids[4] = {4 * p, 4 * p + 1, 4 * p + 2, 4 * p + 3};
+    if (!plane.holds(x, s)) continue;
+    const double hu = 0.5 * s[u] + pad, hv = 0.5 * s[v] + pad;
+    const vtkIdType first = corners->InsertNextPoint(x[u] - hu, x[v] - hv, 0);
+    corners->InsertNextPoint(x[u] + hu, x[v] - hv, 0);
+    corners->InsertNextPoint(x[u] + hu, x[v] + hv, 0);
+    corners->InsertNextPoint(x[u] - hu, x[v] + hv, 0);
+    const vtkIdType ids[4] = {first, first + 1, first + 2, first + 3};
     quads->InsertNextCell(4, ids);
-    scalars->SetValue(p, values[static_cast<std::size_t>(p)]);
+    scalars->InsertNextValue(values[static_cast<std::size_t>(p)]);
   }
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(corners);
@@ -104,6 +106,46 @@ std::array<double, 3> viridis(double f) {
   return c;
 }
 
+std::array<int, 2> MapPlane::drawn() const {
+  if (axis == 0) return {1, 2};
+  if (axis == 1) return {0, 2};
+  return {0, 1};
+}
+
+bool MapPlane::holds(const double* x, const std::array<double, 3>& size) const {
+  return !slice || std::abs(x[axis] - position) <= 0.55 * size[axis];
+}
+
+std::string MapPlane::label() const {
+  if (!slice) return "";
+  return std::string(1, static_cast<char>('x' + axis)) + " = " + format_number(position) + " m";
+}
+
+MapPlane map_plane(vtkPolyData* points, const std::string& slice) {
+  const bool planar = is_planar(points);
+  if (planar && !slice.empty())
+    throw Error("--slice " + slice + ": this run is 2D (its points lie in the plane z = 0); draw it without --slice");
+  if (planar) return {};
+  double bounds[6];
+  points->GetBounds(bounds);
+  const std::string extent = "x from " + format_number(bounds[0]) + " to " + format_number(bounds[1]) + ", y from " +
+                             format_number(bounds[2]) + " to " + format_number(bounds[3]) + ", z from " +
+                             format_number(bounds[4]) + " to " + format_number(bounds[5]) + " m";
+  if (slice.empty())
+    throw Error("this run is 3D: a colour map shows a slice of it; name one with --slice x=X, y=Y or z=Z (the points "
+                "span " + extent + ")");
+  MapPlane plane;
+  plane.slice = true;
+  char* end = nullptr;
+  const char* number = slice.c_str() + std::min<std::size_t>(2, slice.size());
+  plane.position = std::strtod(number, &end);
+  if (slice.size() < 3 || slice[1] != '=' || (slice[0] != 'x' && slice[0] != 'y' && slice[0] != 'z') || *end != '\0' ||
+      !std::isfinite(plane.position))
+    throw Error("--slice " + slice + ": expected x=X, y=Y or z=Z, a plane across an axis at a position in metres");
+  plane.axis = slice[0] - 'x';
+  return plane;
+}
+
 double MapLayout::scale() const {
   const double pw = in_row ? static_cast<double>(width - bar_strip) / panels : width - bar_strip;
   const double ph = in_row ? height : static_cast<double>(height) / panels;
@@ -128,7 +170,7 @@ std::array<double, 2> MapLayout::pixel(int panel, double x, double y) const {
           y0 + margin + (ph - time_band - margin) / 2 + (y - 0.5 * (body[2] + body[3])) / s};
 }
 
-MapLayout map_layout(const std::array<double, 4>& body, int panels, int width, int height) {
+MapLayout map_layout(const std::array<double, 4>& body, int panels, int width, int height, const MapPlane& plane) {
   const double bw = body[1] - body[0], bh = body[3] - body[2];
   if (!(bw > 0) || !(bh > 0) || !std::isfinite(bw) || !std::isfinite(bh))
     throw Error("the body has no extent to draw (its boxes span " + std::to_string(bw) + " x " + std::to_string(bh) +
@@ -136,6 +178,7 @@ MapLayout map_layout(const std::array<double, 4>& body, int panels, int width, i
   if (width < 0 || height < 0) throw Error("--width and --height must be positive (or 0: from the body's shape)");
   MapLayout layout;
   layout.body = body;
+  layout.plane = plane;
   layout.panels = std::max(1, panels);
   layout.in_row = bw <= bh;
   const double aspect = bw / bh;
@@ -160,15 +203,23 @@ MapLayout map_layout(const std::array<double, 4>& body, int panels, int width, i
   return layout;
 }
 
-std::array<double, 4> body_bounds(vtkPolyData* points) {
+std::array<double, 4> body_bounds(vtkPolyData* points, const MapPlane& plane) {
   const auto sizes = point_sizes(points);
-  std::array<double, 4> b{1e300, -1e300, 1e300, -1e300};
+  const auto [u, v] = plane.drawn();
+  std::array<double, 4> b{INFINITY, -INFINITY, INFINITY, -INFINITY};
   for (vtkIdType p = 0; p < points->GetNumberOfPoints(); ++p) {
     double x[3];
     points->GetPoint(p, x);
     const auto& s = sizes[static_cast<std::size_t>(p)];
-    b[0] = std::min(b[0], x[0] - 0.5 * s[0]), b[1] = std::max(b[1], x[0] + 0.5 * s[0]);
-    b[2] = std::min(b[2], x[1] - 0.5 * s[1]), b[3] = std::max(b[3], x[1] + 0.5 * s[1]);
+    if (!plane.holds(x, s)) continue;
+    b[0] = std::min(b[0], x[u] - 0.5 * s[u]), b[1] = std::max(b[1], x[u] + 0.5 * s[u]);
+    b[2] = std::min(b[2], x[v] - 0.5 * s[v]), b[3] = std::max(b[3], x[v] + 0.5 * s[v]);
+  }
+  if (!(b[0] <= b[1])) {
+    double bounds[6];
+    points->GetBounds(bounds);
+    throw Error("no material point's box crosses the plane " + plane.label() + " (the points span " +
+                format_number(bounds[2 * plane.axis]) + " to " + format_number(bounds[2 * plane.axis + 1]) + " m)");
   }
   return b;
 }
@@ -187,10 +238,6 @@ ColourMapCanvas::~ColourMapCanvas() {
 
 vtkSmartPointer<vtkImageData> ColourMapCanvas::draw(const std::vector<MapPanel>& panels,
                                                     const std::array<double, 2>& range) {
-  for (const auto& p : panels)
-    if (!is_planar(p.points))
-      throw Error("colour maps are drawn for 2D runs (points in the plane z = 0); this run is 3D: "
-                  "draw profiles (suffuse plot profile) or open the series in ParaView");
   const auto table = viridis_table(range);
   const MapLayout& layout = layout_;
   const render::VtkMessages& messages = *messages_;
@@ -206,7 +253,7 @@ vtkSmartPointer<vtkImageData> ColourMapCanvas::draw(const std::vector<MapPanel>&
       renderer->SetBackground(1, 1, 1);
 
       vtkNew<vtkPolyDataMapper> mapper;
-      mapper->SetInputData(boxes(panels[k].points, panels[k].field.values, 0.5 * s));  // half a pixel
+      mapper->SetInputData(boxes(panels[k].points, panels[k].field.values, 0.5 * s, layout.plane));  // half a pixel
       mapper->SetScalarModeToUseCellData();
       mapper->SetLookupTable(table);
       mapper->SetScalarRange(range[0], range[1]);
@@ -217,7 +264,8 @@ vtkSmartPointer<vtkImageData> ColourMapCanvas::draw(const std::vector<MapPanel>&
       renderer->AddActor(actor);
 
       vtkNew<vtkTextActor> time;
-      time->SetInput(time_label(panels[k].time).c_str());
+      const std::string where = layout.plane.label();
+      time->SetInput((time_label(panels[k].time) + (where.empty() ? "" : ", " + where)).c_str());
       style_text(time->GetTextProperty(), 18, true);
       time->GetTextProperty()->SetJustificationToCentered();
       time->GetTextProperty()->SetVerticalJustificationToCentered();

@@ -35,7 +35,8 @@ const char* profile_usage =
 
 const char* map_usage =
     "Usage: suffuse plot map --png OUT.png --field NAME [--time T ...] [--range MIN MAX] [options] RUN\n"
-    "Draws a 2D run's material points as boxes of their size coloured by a field (viridis), one panel\n"
+    "Draws a 2D run's material points (or, with --slice z=Z, those of a 3D run whose box crosses\n"
+    "that plane) as boxes of their size coloured by a field (viridis), one panel\n"
     "per time (default: the last frame), with a colour bar titled with the field and its unit. The view\n"
     "is the body's extent in the first frame; the colour scale is the field's range over the whole run\n"
     "unless --range is given, so that maps of different times compare. RUN is a run's output directory\n"
@@ -132,7 +133,9 @@ int field_plot_command(int argc, char** argv) {
     opts.add_options()("range", po::value<std::string>(),
                        "the colour scale: MIN MAX (default: the field's range over the run)")(
         "width", po::value<int>()->default_value(0), "image width [px] (default: from the body's shape)")(
-        "height", po::value<int>()->default_value(0), "image height [px] (default: from the body's shape)");
+        "height", po::value<int>()->default_value(0), "image height [px] (default: from the body's shape)")(
+        "slice", po::value<std::string>()->default_value(""),
+        "of a 3D run: the plane drawn, x=X, y=Y or z=Z [m] (the points whose box crosses it)");
   if (mode == "animate")
     opts.add_options()("frames", po::value<std::string>(), "a directory for the numbered PNG frames")(
         "gif", po::value<std::string>(), "an animated GIF to write")(
@@ -188,6 +191,7 @@ int field_plot_command(int argc, char** argv) {
     o.range = parse_range(vm);
     o.width = vm["width"].as<int>();
     o.height = vm["height"].as<int>();
+    o.slice = vm["slice"].as<std::string>();
     write_map(o, std::cout);
   } else {
     AnimationOptions o;
@@ -199,6 +203,7 @@ int field_plot_command(int argc, char** argv) {
     o.width = vm["width"].as<int>();
     o.height = vm["height"].as<int>();
     o.every = vm["every"].as<int>();
+    o.slice = vm["slice"].as<std::string>();
     o.seconds_per_frame = vm["frame-time"].as<double>();
     write_animation(o, std::cout);
   }

@@ -136,7 +136,9 @@ void write_map(const MapOptions& o, std::ostream& log) {
 
   // The initial frame fixes the view, so that maps of different times line up.
   const auto initial = read_frame(series.frames.front());
-  const MapLayout layout = map_layout(body_bounds(initial), static_cast<int>(frames.size()), o.width, o.height);
+  const MapPlane plane = map_plane(initial, o.slice);
+  const MapLayout layout =
+      map_layout(body_bounds(initial, plane), static_cast<int>(frames.size()), o.width, o.height, plane);
   const std::array<double, 2> range = o.range ? *o.range : series_range(series, o.field);
   std::vector<vtkSmartPointer<vtkPolyData>> points;
   std::vector<MapPanel> panels;

@@ -48,6 +48,7 @@ struct MapOptions {
   std::vector<double> times;  // one panel each; empty: the last frame
   std::optional<std::array<double, 2>> range;  // empty: the field's range over the whole series
   int width = 0, height = 0;                   // 0: from the body's shape
+  std::string slice;                           // of a 3D run: "x=X", "y=Y" or "z=Z" (colour_map.hpp)
 };
 
 // The field's smallest and largest value over every frame of SERIES, widened

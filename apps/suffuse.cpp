@@ -57,7 +57,7 @@ const char* usage =
     "  suffuse plot profile --png OUT.png --field NAME --from X,Y --to X,Y [--times T,T,...] RUN\n"
     "                                a field along a line at several times (RUN: output directory or .pvd)\n"
     "  suffuse plot map --png OUT.png --field NAME [--times T,T,...] [--range MIN MAX] RUN\n"
-    "                                a 2D colour map of a field over the body, with a colour bar\n"
+    "                                a colour map of a field over the body (--slice of a 3D run)\n"
     "  suffuse plot animate --field NAME [--frames DIR] [--gif OUT.gif] RUN\n"
     "                                that map at every frame: numbered PNGs and an animated GIF\n"
     "                                (suffuse plot profile --help, ... list their options)\n"

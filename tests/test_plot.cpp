@@ -155,11 +155,12 @@ namespace series_fixture {
 // A 2D run in a .pvd: 4 x 10 points of 0.1 m boxes over [0, 0.4] x [0, 1] at
 // t = 0, 1 and 2.5 s, with porosity = 0.3 + 0.1 y + 0.01 t, velocity (3, 4, 0)
 // and volume 0.01 (a 0.1 m square in 2D); the collection also lists a grid
-// part, which the reader must skip.
-double porosity(double y, double t) { return 0.3 + 0.1 * y + 0.01 * t; }
+// part, which the reader must skip. With LAYERS, a 3D run of that many layers
+// of 0.1 m cubes in z, porosity + 0.2 z.
+double porosity(double y, double t, double z = 0) { return 0.3 + 0.1 * y + 0.01 * t + 0.2 * z; }
 const double times[] = {0, 1, 2.5};
 
-void write_frame(const fs::path& file, double t) {
+void write_frame(const fs::path& file, double t, int layers) {
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();  // as suffuse writes them
   vtkNew<vtkCellArray> vertices;
@@ -173,16 +174,17 @@ void write_frame(const fs::path& file, double t) {
   stress->SetNumberOfComponents(6);
   const char* components[] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
   for (int c = 0; c < 6; ++c) stress->SetComponentName(c, components[c]);
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 10; ++j) {
-      const double x = 0.05 + 0.1 * i, y = 0.05 + 0.1 * j;
-      const vtkIdType id = points->InsertNextPoint(x, y, 0);
-      vertices->InsertNextCell(1, &id);
-      phi->InsertNextValue(porosity(y, t));
-      velocity->InsertNextTuple3(3, 4, 0);
-      volume->InsertNextValue(0.01);
-      stress->InsertNextTuple6(-1, -2, -3, 0.5, 0, 0);
-    }
+  for (int k = 0; k < std::max(1, layers); ++k)
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 10; ++j) {
+        const double x = 0.05 + 0.1 * i, y = 0.05 + 0.1 * j, z = layers ? 0.05 + 0.1 * k : 0;
+        const vtkIdType id = points->InsertNextPoint(x, y, z);
+        vertices->InsertNextCell(1, &id);
+        phi->InsertNextValue(porosity(y, t, z));
+        velocity->InsertNextTuple3(3, 4, 0);
+        volume->InsertNextValue(layers ? 0.001 : 0.01);
+        stress->InsertNextTuple6(-1, -2, -3, 0.5, 0, 0);
+      }
   vtkNew<vtkPolyData> poly;
   poly->SetPoints(points);
   poly->SetVerts(vertices);
@@ -194,14 +196,14 @@ void write_frame(const fs::path& file, double t) {
 }
 
 // The run in DIR/run (run.pvd and its frames); the path of the directory.
-fs::path write_run(const fs::path& dir) {
+fs::path write_run(const fs::path& dir, int layers = 0) {
   const fs::path run = dir / "run";
   fs::create_directories(run);
   std::string pvd = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
   // Listed out of order, with a grid part: the reader sorts and skips.
   for (int k : {2, 0, 1}) {
     const std::string name = "run_00000" + std::to_string(k) + ".vtp";
-    write_frame(run / name, times[k]);
+    write_frame(run / name, times[k], layers);
     pvd += "    <DataSet timestep=\"" + std::to_string(times[k]) + "\" group=\"\" part=\"0\" file=\"" + name + "\"/>\n";
     pvd += "    <DataSet timestep=\"" + std::to_string(times[k]) + "\" group=\"\" part=\"1\" file=\"grid_00000" +
            std::to_string(k) + ".vti\"/>\n";
@@ -427,6 +429,51 @@ TEST(ColourMap, PanelsSizedFromTheBodyAndErrors) {
   EXPECT_EQ(plot(dir, "map --png bad.png --field porosity --time 9 run"), 1);
   EXPECT_NE(slurp(dir / "log.txt").find("from 0 s to 2.5 s"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "bad.png"));
+}
+
+TEST(ColourMap, SlicesOfA3DRun) {
+  const fs::path dir = fresh_dir("map_3d");
+  const fs::path run = series_fixture::write_run(dir, 3);
+  EXPECT_EQ(plot(dir, "map --png map.png --field porosity run"), 1);
+  std::string log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("this run is 3D: a colour map shows a slice of it; name one with --slice x=X, y=Y or z=Z "
+                     "(the points span x from 0.05 to 0.35, y from 0.05 to 0.95, z from 0.05 to 0.25 m)"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(plot(dir, "map --png map.png --field porosity --slice z=5 run"), 1);
+  log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("no material point's box crosses the plane z = 5 m (the points span 0.05 to 0.25 m)"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(plot(dir, "map --png map.png --field porosity --slice w=5 run"), 1);
+  EXPECT_NE(slurp(dir / "log.txt").find("expected x=X, y=Y or z=Z"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "map.png"));
+
+  // The middle layer, z = 0.15: its colours, not those of the layers beside it.
+  ASSERT_EQ(plot(dir, "map --png map.png --field porosity --slice z=0.15 --time 1 --range 0.3 0.5 --width 400 "
+                      "--height 500 run"),
+            0)
+      << slurp(dir / "log.txt");
+  const auto image = read_png(dir / "map.png");
+  const auto points = read_frame(read_point_series(run).frames[0]);
+  const MapPlane plane = map_plane(points, "z=0.15");
+  const MapLayout layout = map_layout(body_bounds(points, plane), 1, 400, 500, plane);
+  EXPECT_EQ(layout.body, (std::array<double, 4>{0, 0.4, 0, 1}));
+  const auto at = layout.pixel(0, 0.25, 0.35);
+  const vtkIdType p = static_cast<vtkIdType>(at[1]) * 400 + static_cast<vtkIdType>(at[0]);
+  const auto expected = viridis((series_fixture::porosity(0.35, 1, 0.15) - 0.3) / 0.2);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(image->GetPointData()->GetScalars()->GetComponent(p, c), 255 * expected[c], 4) << c;
+
+  // Across y: x horizontal, z vertical.
+  EXPECT_EQ(body_bounds(points, map_plane(points, "y=0.5")), (std::array<double, 4>{0, 0.4, 0, 0.3}));
+  ASSERT_EQ(plot(dir, "animate --field porosity --slice y=0.5 --frames frames run"), 0) << slurp(dir / "log.txt");
+
+  // A 2D run has no slice.
+  const fs::path flat = fresh_dir("map_2d_slice");
+  series_fixture::write_run(flat);
+  EXPECT_EQ(plot(flat, "map --png map.png --field porosity --slice z=0 run"), 1);
+  EXPECT_NE(slurp(flat / "log.txt").find("this run is 2D"), std::string::npos);
 }
 
 TEST(Animation, OneFramePerOutputAndALoopingGif) {
