@@ -242,82 +242,79 @@ vtkSmartPointer<vtkImageData> ColourMapCanvas::draw(const std::vector<MapPanel>&
   const MapLayout& layout = layout_;
   const render::VtkMessages& messages = *messages_;
   vtkGenericOpenGLRenderWindow* window = window_->window();
-  vtkSmartPointer<vtkImageData> image;
-  {
-    std::vector<vtkSmartPointer<vtkRenderer>> renderers;
-    const double s = layout.scale();
-    for (std::size_t k = 0; k < panels.size(); ++k) {
-      const auto v = layout.viewport(static_cast<int>(k));
-      auto renderer = vtkSmartPointer<vtkRenderer>::New();
-      renderer->SetViewport(v.data());
-      renderer->SetBackground(1, 1, 1);
+  std::vector<vtkSmartPointer<vtkRenderer>> renderers;
+  const double s = layout.scale();
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const auto v = layout.viewport(static_cast<int>(k));
+    auto renderer = vtkSmartPointer<vtkRenderer>::New();
+    renderer->SetViewport(v.data());
+    renderer->SetBackground(1, 1, 1);
 
-      vtkNew<vtkPolyDataMapper> mapper;
-      mapper->SetInputData(boxes(panels[k].points, panels[k].field.values, 0.5 * s, layout.plane));  // half a pixel
-      mapper->SetScalarModeToUseCellData();
-      mapper->SetLookupTable(table);
-      mapper->SetScalarRange(range[0], range[1]);
-      mapper->UseLookupTableScalarRangeOff();
-      vtkNew<vtkActor> actor;
-      actor->SetMapper(mapper);
-      actor->GetProperty()->LightingOff();  // the colours of the scale, unshaded
-      renderer->AddActor(actor);
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(boxes(panels[k].points, panels[k].field.values, 0.5 * s, layout.plane));  // half a pixel
+    mapper->SetScalarModeToUseCellData();
+    mapper->SetLookupTable(table);
+    mapper->SetScalarRange(range[0], range[1]);
+    mapper->UseLookupTableScalarRangeOff();
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->GetProperty()->LightingOff();  // the colours of the scale, unshaded
+    renderer->AddActor(actor);
 
-      vtkNew<vtkTextActor> time;
-      const std::string where = layout.plane.label();
-      time->SetInput((time_label(panels[k].time) + (where.empty() ? "" : ", " + where)).c_str());
-      style_text(time->GetTextProperty(), 18, true);
-      time->GetTextProperty()->SetJustificationToCentered();
-      time->GetTextProperty()->SetVerticalJustificationToCentered();
-      const double ph = (v[3] - v[1]) * layout.height;
-      time->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-      time->GetPositionCoordinate()->SetValue(0.5, 1 - 0.5 * time_band / ph);
-      renderer->AddActor2D(time);
+    vtkNew<vtkTextActor> time;
+    const std::string where = layout.plane.label();
+    time->SetInput((time_label(panels[k].time) + (where.empty() ? "" : ", " + where)).c_str());
+    style_text(time->GetTextProperty(), 18, true);
+    time->GetTextProperty()->SetJustificationToCentered();
+    time->GetTextProperty()->SetVerticalJustificationToCentered();
+    const double ph = (v[3] - v[1]) * layout.height;
+    time->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    time->GetPositionCoordinate()->SetValue(0.5, 1 - 0.5 * time_band / ph);
+    renderer->AddActor2D(time);
 
-      // The body's centre at the middle of the panel below the time band.
-      vtkCamera* camera = renderer->GetActiveCamera();
-      camera->ParallelProjectionOn();
-      const double cx = 0.5 * (layout.body[0] + layout.body[1]);
-      const double cy = 0.5 * (layout.body[2] + layout.body[3]) + s * (time_band - margin) / 2;
-      camera->SetFocalPoint(cx, cy, 0);
-      camera->SetPosition(cx, cy, 1);
-      camera->SetViewUp(0, 1, 0);
-      camera->SetParallelScale(s * ph / 2);
-      camera->SetClippingRange(0.5, 1.5);
-      window->AddRenderer(renderer);
-      renderers.push_back(renderer);
-    }
-
-    auto bar_renderer = vtkSmartPointer<vtkRenderer>::New();
-    const double bar = static_cast<double>(bar_strip) / layout.width;
-    bar_renderer->SetViewport(1 - bar, 0, 1, 1);
-    bar_renderer->SetBackground(1, 1, 1);
-    vtkNew<vtkScalarBarActor> scale_bar;
-    scale_bar->SetLookupTable(table);
-    scale_bar->SetTitle(title_of(panels).c_str());
-    scale_bar->SetNumberOfLabels(6);
-    scale_bar->SetLabelFormat("%.3g");
-    scale_bar->UnconstrainedFontSizeOn();
-    style_text(scale_bar->GetTitleTextProperty(), 16, true);
-    style_text(scale_bar->GetLabelTextProperty(), 15, false);
-    scale_bar->GetLabelTextProperty()->ShadowOff();
-    scale_bar->GetTitleTextProperty()->ShadowOff();
-    scale_bar->SetMaximumWidthInPixels(bar_strip - 20);
-    scale_bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-    scale_bar->GetPositionCoordinate()->SetValue(0.08, 0.1);
-    scale_bar->SetWidth(0.84);
-    scale_bar->SetHeight(std::min(0.8, 600.0 / layout.height));
-    scale_bar->SetBarRatio(0.25);
-    scale_bar->SetVerticalTitleSeparation(12);  // the top label clear of the title
-    bar_renderer->AddActor2D(scale_bar);
-    window->AddRenderer(bar_renderer);
-    renderers.push_back(bar_renderer);
-
-    window->Render();
-    messages.check("cannot draw the colour map");
-    image = grab_image(window, messages, layout.width, layout.height);
-    for (auto& r : renderers) window->RemoveRenderer(r);
+    // The body's centre at the middle of the panel below the time band.
+    vtkCamera* camera = renderer->GetActiveCamera();
+    camera->ParallelProjectionOn();
+    const double cx = 0.5 * (layout.body[0] + layout.body[1]);
+    const double cy = 0.5 * (layout.body[2] + layout.body[3]) + s * (time_band - margin) / 2;
+    camera->SetFocalPoint(cx, cy, 0);
+    camera->SetPosition(cx, cy, 1);
+    camera->SetViewUp(0, 1, 0);
+    camera->SetParallelScale(s * ph / 2);
+    camera->SetClippingRange(0.5, 1.5);
+    window->AddRenderer(renderer);
+    renderers.push_back(renderer);
   }
+
+  auto bar_renderer = vtkSmartPointer<vtkRenderer>::New();
+  const double bar = static_cast<double>(bar_strip) / layout.width;
+  bar_renderer->SetViewport(1 - bar, 0, 1, 1);
+  bar_renderer->SetBackground(1, 1, 1);
+  vtkNew<vtkScalarBarActor> scale_bar;
+  scale_bar->SetLookupTable(table);
+  scale_bar->SetTitle(title_of(panels).c_str());
+  scale_bar->SetNumberOfLabels(6);
+  scale_bar->SetLabelFormat("%.3g");
+  scale_bar->UnconstrainedFontSizeOn();
+  style_text(scale_bar->GetTitleTextProperty(), 16, true);
+  style_text(scale_bar->GetLabelTextProperty(), 15, false);
+  scale_bar->GetLabelTextProperty()->ShadowOff();
+  scale_bar->GetTitleTextProperty()->ShadowOff();
+  scale_bar->SetMaximumWidthInPixels(bar_strip - 20);
+  scale_bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  scale_bar->GetPositionCoordinate()->SetValue(0.08, 0.1);
+  scale_bar->SetWidth(0.84);
+  scale_bar->SetHeight(std::min(0.8, 600.0 / layout.height));
+  scale_bar->SetBarRatio(0.25);
+  scale_bar->SetVerticalTitleSeparation(12);  // the top label clear of the title
+  bar_renderer->AddActor2D(scale_bar);
+  window->AddRenderer(bar_renderer);
+  renderers.push_back(bar_renderer);
+
+  window->Render();
+  messages.check("cannot draw the colour map");
+  auto image = grab_image(window, messages, layout.width, layout.height);
+  for (auto& r : renderers) window->RemoveRenderer(r);  // the next drawing starts afresh
   return image;
 }
 
