@@ -204,9 +204,10 @@ fs::path write_run(const fs::path& dir, int layers = 0) {
   for (int k : {2, 0, 1}) {
     const std::string name = "run_00000" + std::to_string(k) + ".vtp";
     write_frame(run / name, times[k], layers);
-    pvd += "    <DataSet timestep=\"" + std::to_string(times[k]) + "\" group=\"\" part=\"0\" file=\"" + name + "\"/>\n";
-    pvd += "    <DataSet timestep=\"" + std::to_string(times[k]) + "\" group=\"\" part=\"1\" file=\"grid_00000" +
+    // The grid first, as part 0, like a scene that lists writer/vtk_grid before writer/vtk_particles.
+    pvd += "    <DataSet timestep=\"" + std::to_string(times[k]) + "\" group=\"\" part=\"0\" file=\"grid_00000" +
            std::to_string(k) + ".vti\"/>\n";
+    pvd += "    <DataSet timestep=\"" + std::to_string(times[k]) + "\" group=\"\" part=\"1\" file=\"" + name + "\"/>\n";
   }
   write(run / "run.pvd", pvd + "  </Collection>\n</VTKFile>\n");
   return run;
