@@ -14,7 +14,7 @@
 #include "field_plots.hpp"
 #include "gif_file.hpp"
 #include "offscreen_render_window.hpp"
-#include "png_file.hpp"
+#include "output_file.hpp"
 #include "point_field.hpp"
 #include "vtk_series.hpp"
 
@@ -66,7 +66,7 @@ void write_animation(const AnimationOptions& o, std::ostream& log) {
     if (!o.frames.empty())
       write_atomically(frame_png(o.frames, o.field, k), [&](const fs::path& part) {
         render::VtkMessages messages;
-        write_png(image, messages, part);
+        render::write_png(image, part, messages);
       });
     if (!o.gif.empty()) images.push_back(image);
   }

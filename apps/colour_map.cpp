@@ -22,10 +22,10 @@
 #include <string>
 #include <suffuse/error.hpp>
 
-#include "offscreen_render_window.hpp"
+#include "chart_output.hpp"
 #include "format_number.hpp"
-#include "png_file.hpp"
-#include "text_style.hpp"
+#include "offscreen_render_window.hpp"
+#include "output_file.hpp"
 #include "vtk_series.hpp"
 
 namespace suffuse::plot {
@@ -264,7 +264,7 @@ vtkSmartPointer<vtkImageData> ColourMapCanvas::draw(const std::vector<MapPanel>&
     vtkNew<vtkTextActor> time;
     const std::string where = layout.plane.label();
     time->SetInput((time_label(panels[k].time) + (where.empty() ? "" : ", " + where)).c_str());
-    style_text(time->GetTextProperty(), 18, true);
+    render::style_text(time->GetTextProperty(), 18, true);
     time->GetTextProperty()->SetJustificationToCentered();
     time->GetTextProperty()->SetVerticalJustificationToCentered();
     const double ph = (v[3] - v[1]) * layout.height;
@@ -296,8 +296,8 @@ vtkSmartPointer<vtkImageData> ColourMapCanvas::draw(const std::vector<MapPanel>&
   scale_bar->SetNumberOfLabels(6);
   scale_bar->SetLabelFormat("%.3g");
   scale_bar->UnconstrainedFontSizeOn();
-  style_text(scale_bar->GetTitleTextProperty(), 16, true);
-  style_text(scale_bar->GetLabelTextProperty(), 15, false);
+  render::style_text(scale_bar->GetTitleTextProperty(), 16, true);
+  render::style_text(scale_bar->GetLabelTextProperty(), 15, false);
   scale_bar->GetLabelTextProperty()->ShadowOff();
   scale_bar->GetTitleTextProperty()->ShadowOff();
   scale_bar->SetMaximumWidthInPixels(bar_strip - 20);
@@ -313,7 +313,7 @@ vtkSmartPointer<vtkImageData> ColourMapCanvas::draw(const std::vector<MapPanel>&
 
   window->Render();
   messages.check("cannot draw the colour map");
-  auto image = grab_image(window, messages, layout.width, layout.height);
+  auto image = render::read_image(window, layout.width, layout.height, messages);
   for (auto& r : renderers) window->RemoveRenderer(r);  // the next drawing starts afresh
   return image;
 }

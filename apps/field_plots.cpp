@@ -11,7 +11,7 @@
 #include "colour_map.hpp"
 #include "format_number.hpp"
 #include "offscreen_render_window.hpp"
-#include "png_file.hpp"
+#include "output_file.hpp"
 #include "point_field.hpp"
 
 namespace suffuse::plot {
@@ -150,7 +150,7 @@ void write_map(const MapOptions& o, std::ostream& log) {
   const auto image = canvas.draw(panels, range);
   write_atomically(o.png, [&](const fs::path& part) {
     render::VtkMessages messages;
-    write_png(image, messages, part);
+    render::write_png(image, part, messages);
   });
   log << "wrote " << o.png.string() << " (" << panels.front().field.label << " from " << format_number(range[0])
       << " to " << format_number(range[1]) << ")\n";

@@ -32,14 +32,15 @@
 #include <utility>
 
 #include "csv_table.hpp"
+#include "chart_output.hpp"
 #include "format_number.hpp"
 #include "offscreen_render_window.hpp"
-#include "png_file.hpp"
-#include "text_style.hpp"
+#include "output_file.hpp"
 
 namespace suffuse::plot {
 
 namespace fs = std::filesystem;
+using render::style_text;
 
 namespace {
 
@@ -274,7 +275,7 @@ void render(const std::vector<Series>& series, const PlotOptions& o, const std::
     window->Render();
     messages.check("cannot draw the chart");
 
-    write_png(grab_image(window, messages, o.width, o.height), messages, file);
+    render::write_png(window, o.width, o.height, file, messages);
   }
   messages.report_warnings();
 }

@@ -6,6 +6,7 @@
 //   suffuse schema
 //   suffuse plot --png OUT.png --x COLUMN --y COLUMN [options] FILE.csv [FILE.csv ...]
 //   suffuse plot profile|map|animate [options] RUN
+//   suffuse gradation PSD.csv [--json] [--png FILE.png]
 #include <unistd.h>
 
 #include <boost/program_options.hpp>
@@ -29,6 +30,7 @@
 #include <vector>
 
 #include "field_plot_command.hpp"
+#include "gradation_command.hpp"
 #include "plot.hpp"
 
 namespace po = boost::program_options;
@@ -61,6 +63,9 @@ const char* usage =
     "  suffuse plot animate --field NAME [--frames DIR] [--gif OUT.gif] RUN\n"
     "                                that map at every frame: numbered PNGs and an animated GIF\n"
     "                                (suffuse plot profile --help, ... list their options)\n"
+    "  suffuse gradation PSD.csv [--json] [--png FILE.png]\n"
+    "                                internal stability of a particle-size distribution by the published\n"
+    "                                criteria (Kezdi, Kenney-Lau, Burenkova, ...); suffuse gradation --help\n"
     "Plugins are searched in the scene's plugin_paths, then $SUFFUSE_PLUGIN_PATH, then\n"
     "the bundled plugin directory.\n";
 
@@ -217,6 +222,24 @@ int cmd_reference() {
   return 0;
 }
 
+// The internal-stability criteria on each body's gradation, and a warning
+// where an erosion law erodes a soil that every criterion finds stable.
+void print_gradations(const suffuse::Scene& scene) {
+  for (const suffuse::BodySpec& body : scene.bodies) {
+    if (!body.internal_stability) continue;
+    const suffuse::InternalStability& s = *body.internal_stability;
+    std::cout << "\nbody '" << body.name << "': gradation " << body.gradation_source << "\n";
+    suffuse::gradation_command::print_table(std::cout, s, "  ");
+    if (body.fines_content_from_gradation)
+      std::cout << "  fines_content = " << body.fines_content << " (fines_content_from_gradation)\n";
+    const suffuse::MaterialSpec& material = scene.materials[body.material];
+    if (material.erosion && s.stable())
+      std::cout << "warning: body '" << body.name << "': every applicable criterion finds its gradation stable, yet "
+                << "material '" << material.name << "' erodes it (" << material.erosion->type
+                << "): suffusion is not expected in this soil\n";
+  }
+}
+
 int cmd_validate(const fs::path& scene_file) {
   suffuse::Registry registry;
   suffuse::PluginLoader loader(registry);
@@ -224,6 +247,7 @@ int cmd_validate(const fs::path& scene_file) {
   std::cout << scene_file.string() << " is valid: " << scene.dim << "D, " << scene.materials.size()
             << " material(s), " << scene.bodies.size() << " body(ies), " << scene.boundary_conditions.size()
             << " boundary condition(s), " << scene.outputs.size() << " output(s)\n";
+  print_gradations(scene);
   return 0;
 }
 
@@ -457,6 +481,7 @@ int main(int argc, char** argv) {
     if (argc >= 3 && std::string(argv[1]) == "plot" && suffuse::plot::is_field_plot_mode(argv[2]))
       return suffuse::plot::field_plot_command(argc - 2, argv + 2);
     if (argc >= 2 && std::string(argv[1]) == "plot") return cmd_plot(argc - 1, argv + 1);
+    if (argc >= 2 && std::string(argv[1]) == "gradation") return suffuse::gradation_command::run(argc - 1, argv + 1);
     po::options_description opts("Options");
     opts.add_options()("help,h", "show this help")("version", "print the version")(
         "output,o", po::value<std::string>(), "output directory (run)")(

@@ -57,7 +57,7 @@ TEST(Probes, PointBoxAndLedgerFaceOnTheSuffusionColumn) {
   const double* V = pts.data(pts.core().volume);
 
   // The followed point: the one starting nearest (0.021, 0.4), i.e. a top point at x = 0.025.
-  const auto surface = read_csv(dir / "column_0.surface.csv");
+  const auto surface = read_csv(dir / "column.surface.csv");
   ASSERT_EQ(surface.header.size(), 4u);
   EXPECT_EQ(surface.header[0], "time [s]");
   EXPECT_EQ(surface.header[1], "displacement_x [m]");
@@ -87,19 +87,19 @@ TEST(Probes, PointBoxAndLedgerFaceOnTheSuffusionColumn) {
     suspended += sf[p];
     c_max = std::max(c_max, c[p]);
   }
-  const auto mean = read_csv(dir / "column_1.base_mean.csv");
+  const auto mean = read_csv(dir / "column.base_mean.csv");
   EXPECT_NEAR(mean.rows.back()[1], n_sum / volume, 1e-15);
   EXPECT_NEAR(mean.rows.back()[2], fc_sum / volume, 1e-15);
-  EXPECT_NEAR(read_csv(dir / "column_2.base_fines.csv").rows.back()[1], suspended, 1e-15 * suspended);
+  EXPECT_NEAR(read_csv(dir / "column.base_fines.csv").rows.back()[1], suspended, 1e-15 * suspended);
   EXPECT_GT(suspended, 0) << "fines were eroded in the base";
-  EXPECT_EQ(read_csv(dir / "column_3.base_max.csv").rows.back()[1], c_max);
+  EXPECT_EQ(read_csv(dir / "column.base_max.csv").rows.back()[1], c_max);
 
   // Face: what left through the top, net, as the ledger books it.
   const suffuse::MassLedger ledger = sim->mass_ledger();
   const auto top = std::find_if(ledger.boundaries.begin(), ledger.boundaries.end(),
                                 [](const suffuse::BoundaryDischarge& d) { return d.face == "top"; });
   ASSERT_NE(top, ledger.boundaries.end());
-  const auto out = read_csv(dir / "column_4.out.csv");
+  const auto out = read_csv(dir / "column.out.csv");
   EXPECT_EQ(out.header[1], "fines_discharged [kg]");
   ASSERT_EQ(out.rows.size(), 51u);
   EXPECT_EQ(out.rows.back()[1], top->fines_out - top->fines_in);
@@ -157,5 +157,15 @@ TEST(Probes, BadProbesAreRefused) {
   auto name = base;
   name["at"] = {0.0, 0.0};
   name["name"] = "../x";
-  EXPECT_NE(message(name).find("not a file-name part"), std::string::npos);
+  EXPECT_NE(message(name).find("/outputs/0/name: not a file-name part"), std::string::npos) << message(name);
+  j["outputs"] = {missing, missing};
+  j["outputs"][0]["fields"] = {"porosity"};
+  j["outputs"][1]["fields"] = {"porosity"};
+  suffuse::Registry registry;
+  try {
+    suffuse::test::scene_from(j, registry);
+    ADD_FAILURE() << "two outputs of one name";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("/outputs/1/name: duplicate output name"), std::string::npos) << e.what();
+  }
 }

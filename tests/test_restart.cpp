@@ -97,13 +97,13 @@ TEST_P(Restart, ContinuesBitForBitAndItsOutputsContinue) {
   EXPECT_EQ(b.steps(), a.steps());
   EXPECT_EQ(b.time(), a.time());
   expect_same_points(a.points(), b.points());
-  for (const char* suffix : {".pvd", ".ledger.csv", ".reactions.csv", "_1.all.csv"}) {
+  for (const char* suffix : {".pvd", ".ledger.csv", ".reactions.csv", ".all.csv"}) {
     if (!fs::exists(a_dir / (name + suffix))) continue;
     EXPECT_EQ(slurp(b_dir / (name + suffix)), slurp(a_dir / (name + suffix))) << suffix;
   }
-  EXPECT_EQ(slurp(b_dir / (name + "_0_000010.vtp")), slurp(a_dir / (name + "_0_000010.vtp"))) << "the last frame";
-  EXPECT_FALSE(fs::exists(b_dir / (name + "_0_000011.vtp")));
-  EXPECT_EQ(suffuse::test::read_csv(b_dir / (name + "_1.all.csv")).rows.size(), 201u) << "the probe's rows";
+  EXPECT_EQ(slurp(b_dir / (name + "_000010.vtp")), slurp(a_dir / (name + "_000010.vtp"))) << "the last frame";
+  EXPECT_FALSE(fs::exists(b_dir / (name + "_000011.vtp")));
+  EXPECT_EQ(suffuse::test::read_csv(b_dir / (name + ".all.csv")).rows.size(), 201u) << "the probe's rows";
   // The final checkpoint of both runs holds the same state.
   EXPECT_EQ(slurp(b_dir / (name + ".checkpoint")), slurp(a_dir / (name + ".checkpoint")));
 }

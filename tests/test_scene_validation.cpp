@@ -394,7 +394,7 @@ TEST(SceneValidation, AllErrorsAreReportedTogether) {
                                              "/outputs/0/type"};
   for (std::size_t i = 0; i < pointers.size(); ++i) EXPECT_EQ(diags[i].pointer, pointers[i]) << describe(diags);
   EXPECT_EQ(diags[5].problem, "plugin of the wrong kind (phase)");
-  EXPECT_EQ(diags[5].expected, "a writer plugin, one of {writer/vtk_particles}");
+  EXPECT_EQ(diags[5].expected, "a writer plugin, one of {writer/csv_probe, writer/vtk_grid, writer/vtk_particles}");
 }
 
 // ---------------------------------------------------------------------------
@@ -444,7 +444,7 @@ TEST(SceneValidation, WrongKindOfWriterIsReportedOnlyOnce) {
   json j = base_scene();
   j["outputs"][0] = {{"type", "phase/linear_elastic"}, {"compress", false}, {"interval", 0.4}};
   expect_diagnostics(j, {{"/outputs/0/type", "plugin of the wrong kind (phase)",
-                          "a writer plugin, one of {writer/vtk_particles}", "\"phase/linear_elastic\"", "core"}});
+                          "a writer plugin, one of {writer/csv_probe, writer/vtk_grid, writer/vtk_particles}", "\"phase/linear_elastic\"", "core"}});
 }
 
 TEST(SceneValidation, DescriptionOfWrongTypeIsADiagnostic) {

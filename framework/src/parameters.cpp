@@ -25,6 +25,7 @@ std::string to_string(ParamType type) {
     case ParamType::Choice: return "string";
     case ParamType::Vector: return "array of numbers";
     case ParamType::StringList: return "array of strings";
+    case ParamType::Table: return "array of rows of numbers";
   }
   return "?";
 }
@@ -57,7 +58,9 @@ std::string Param::expectation(int dimension) const {
     text += "}";
     return text;
   }
-  if (type == ParamType::Vector) {
+  if (type == ParamType::Table) {
+    text = "array of [" + std::string(length == 2 ? "number, number" : std::to_string(length) + " numbers") + "] rows";
+  } else if (type == ParamType::Vector) {
     int n = length > 0 ? length : dimension;
     text = n > 0 ? "array of " + std::to_string(n) + " numbers" : "array of numbers (one per dimension)";
   } else {
@@ -133,6 +136,7 @@ Parameters ParameterSchema::complete(std::map<std::string, ParamValue> values) c
         case ParamType::Choice: return std::holds_alternative<std::string>(value);
         case ParamType::Vector: return std::holds_alternative<std::vector<double>>(value);
         case ParamType::StringList: return std::holds_alternative<std::vector<std::string>>(value);
+        case ParamType::Table: return std::holds_alternative<std::vector<double>>(value);
       }
       return false;
     }();

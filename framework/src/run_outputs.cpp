@@ -37,11 +37,6 @@ double RunOutputs::next_multiple(double interval, double now) const {
   return (std::floor((now + eps) / interval) + 1) * interval;
 }
 
-// One output keeps the scene's name; several get a suffix each.
-static std::string basename_of(const Scene& scene, std::size_t w, std::size_t writers) {
-  return writers == 1 ? scene.name : scene.name + "_" + std::to_string(w);
-}
-
 void RunOutputs::open_csv(std::ofstream& csv, const char* suffix, std::optional<double> resume_time) {
   const fs::path file = dir_ / (scene_.name + suffix);
   const bool append = resume_time && keep_csv_rows_until(file, *resume_time);
@@ -62,7 +57,7 @@ void RunOutputs::start(double time, std::size_t step) {
   series_ = std::make_unique<PvdSeries>(dir_ / (scene_.name + ".pvd"));
   if (species_) open_csv(ledger_, ".ledger.csv", std::nullopt);
   if (!reactions_.empty()) open_csv(reactions_csv_, ".reactions.csv", std::nullopt);
-  for (std::size_t w = 0; w < writers_.size(); ++w) writers_[w]->open(dir_, basename_of(scene_, w, writers_.size()));
+  for (std::size_t w = 0; w < writers_.size(); ++w) writers_[w]->open(dir_, output_basename(scene_, w));
   for (std::size_t w = 0; w < writers_.size(); ++w) {
     write_frame(w, time, step);
     next_[w] = interval_[w];
@@ -84,7 +79,7 @@ void RunOutputs::resume(double time, const std::vector<std::size_t>& frames) {
   if (!reactions_.empty()) open_csv(reactions_csv_, ".reactions.csv", time);
   frames_ = frames;
   for (std::size_t w = 0; w < writers_.size(); ++w) {
-    writers_[w]->resume(dir_, basename_of(scene_, w, writers_.size()), ResumePoint{time, frames[w]});
+    writers_[w]->resume(dir_, output_basename(scene_, w), ResumePoint{time, frames[w]});
     next_[w] = next_multiple(interval_[w], time);
   }
   series_->save();

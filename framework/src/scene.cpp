@@ -186,8 +186,9 @@ std::vector<Diagnostic> load_plugins_of(const Json& root, const fs::path& base_d
 }
 
 Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier,
-                 std::vector<std::string> skipped_libraries) {
+                 std::vector<std::string> skipped_libraries, const fs::path& base_dir) {
   SceneReader r(root, registry, std::move(earlier));
+  r.base_dir = base_dir;
   r.skipped_libraries = std::move(skipped_libraries);
   Scene scene;
   if (!root.is_object()) {
@@ -215,7 +216,7 @@ Scene parse_scene(const std::string& text, const std::string& name, const fs::pa
   const json root = detail::parse_scene_text(text, name);
   // Plugins first: their schemas are needed to validate the rest.
   std::vector<Diagnostic> path_errors = detail::load_plugins_of(root, base_dir, loader);
-  Scene scene = detail::read_scene(root, registry, name, std::move(path_errors), loader.warnings());
+  Scene scene = detail::read_scene(root, registry, name, std::move(path_errors), loader.warnings(), base_dir);
   scene.name = fs::path(name).stem().string();
   return scene;
 }

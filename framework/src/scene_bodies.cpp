@@ -36,18 +36,29 @@ ParameterSchema body_schema() {
   s.number("k0").with_unit("-").at_least(0).may_be_absent().doc(
       "Adds the geostatic effective stress of the body's own weight below its top (buoyant weight if saturated), "
       "with horizontal stress k0 times the vertical");
-  
+  s.string("gradation").may_be_absent().doc(
+      "The soil's particle-size distribution: a PSD file, CSV with the units in its header (\"size [mm], "
+      "passing [%]\") or JSON, relative to the scene file. validate reports the internal-stability criteria on it "
+      "(docs/gradation.md)");
+  s.table("gradation_points", 2).with_unit("mm, %").may_be_absent().doc(
+      "The particle-size distribution inline, instead of \"gradation\": [[size, percent passing], ...], smallest "
+      "size first, 100 % at the largest");
+  s.boolean("fines_content_from_gradation").fallback(false).doc(
+      "Take fines_content from the gradation: the erodible fines the criteria identify (finer than the gap of a "
+      "gap-graded soil, else the shape curve's unstable part; 0 if no criterion finds it unstable; "
+      "docs/gradation.md). Instead of fines_content");
+
   return s;
 }
 
 // Fines belong to saturated bodies: without a liquid there is nothing to carry them.
 void read_fines(SceneReader& r, const Parameters& b, const std::string& ptr, BodySpec& body) {
   auto value = [&](const char* key) { return b.has(key) ? b.number(key) : 0.0; };
-  body.fines_content = value("fines_content");
+  if (!body.fines_content_from_gradation) body.fines_content = value("fines_content");
   body.ultimate_fines_content = value("ultimate_fines_content");
   body.concentration = value("concentration");
   for (const char* key : {"fines_content", "ultimate_fines_content", "concentration"}) {
-    const double v = value(key);
+    const double v = std::string(key) == "fines_content" ? body.fines_content : value(key);
     if (v != 0 && !b.has("liquid"))
       r.error(ptr + "/" + key, "fines in a dry body", "0 without \"liquid\"", format(v), "core (body)");
   }
@@ -114,6 +125,7 @@ void read_bodies(SceneReader& r, Scene& scene) {
                 format(*body.water_table), "core (body)");
     }
     if (b.has("k0")) body.k0 = b.number("k0");
+    read_gradation(r, bodies[i], b, ptr, body);
     read_fines(r, b, ptr, body);
     if (b.has("stress")) {
       const auto& s = b.vector("stress");

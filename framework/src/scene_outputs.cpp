@@ -1,4 +1,7 @@
 // Outputs: writer plugin nodes, with the interval the core reads from each.
+#include <algorithm>
+#include <cctype>
+
 #include "scene_reader.hpp"
 
 namespace suffuse::detail {
@@ -8,9 +11,24 @@ namespace {
 ParameterSchema output_schema() {
   ParameterSchema s;
   s.number("interval").with_unit("s").above(0).may_be_absent().doc(
-      "Simulation time between frames; absent: end time / 20. The initial and final states are always written");
-  
+      "Simulation time between frames; absent: end time / 20 (writer/csv_probe: / 200). The initial and final "
+      "states are always written");
+  s.string("name").may_be_absent().doc(
+      "Names this output's files, <scene>.<name>...: letters, digits, _ and -, unique among the outputs; absent: "
+      "<scene>, or <scene>_<index in /outputs> when the scene has several writers of its type");
   return s;
+}
+
+// A name becomes part of file names: no path separators, no clash.
+void check_output_name(SceneReader& r, const Scene& scene, const std::string& name, const std::string& ptr) {
+  const bool plain = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+  if (!plain) r.error(ptr, "not a file-name part", "letters, digits, _ and -", "\"" + name + "\"", "core (output)");
+  for (std::size_t k = 0; k < scene.outputs.size(); ++k)
+    if (scene.outputs[k].name == name)
+      r.error(ptr, "duplicate output name", "a name no other output has", "\"" + name + "\", as /outputs/" +
+              std::to_string(k) + "/name", "core (output)");
 }
 
 void read_outputs(SceneReader& r, Scene& scene) {
@@ -34,7 +52,9 @@ void read_outputs(SceneReader& r, Scene& scene) {
         if (!core_keys.count(k)) others.insert(k);
       Parameters o = validate_object(outputs[i], core, ptr, "core (output)", r.dim, r.diags, others);
       out.interval = o.maybe_number("interval");
+      if (o.has("name")) out.name = o.string("name");
     }
+    if (out.name) check_output_name(r, scene, *out.name, ptr + "/name");
     scene.outputs.push_back(std::move(out));
   }
 }
@@ -48,3 +68,15 @@ SceneSection outputs_section() {
 }
 
 }  // namespace suffuse::detail
+
+namespace suffuse {
+
+std::string output_basename(const Scene& scene, std::size_t output) {
+  const OutputSpec& out = scene.outputs[output];
+  if (out.name) return scene.name + "." + *out.name;
+  const auto same_type = std::count_if(scene.outputs.begin(), scene.outputs.end(),
+                                       [&](const OutputSpec& o) { return o.writer.type == out.writer.type; });
+  return same_type == 1 ? scene.name : scene.name + "_" + std::to_string(output);
+}
+
+}  // namespace suffuse

@@ -34,12 +34,18 @@ class SceneReader {
   Registry& registry;
   std::vector<Diagnostic> diags;
   std::vector<std::string> skipped_libraries;  // files of plugin directories that did not load, and why
+  std::filesystem::path base_dir;  // the scene file's directory: files a scene names are relative to it
   int dim = 0;           // 0 until /dimension is valid
   bool grid_ok = false;  // the grid is valid, so bodies can be checked against it
 };
 
 // A phase node (a material's, or an element test's) with its "base" if its
 // plugin wraps one; `core_keys` are the core's other keys of the node.
+// A body's gradation ("gradation" file or inline "gradation_points") and the
+// fines content it gives ("fines_content_from_gradation"); `b` holds the
+// body's validated parameters, read from `node`.
+void read_gradation(SceneReader& r, const Json& node, const Parameters& b, const std::string& ptr, BodySpec& body);
+
 void read_phase(SceneReader& r, const Json& node, const std::string& ptr, std::set<std::string> core_keys,
                 PluginNode& phase, std::optional<PluginNode>& base);
 
@@ -73,7 +79,7 @@ std::vector<Diagnostic> load_plugins_of(const Json& root, const std::filesystem:
 
 // Reads and validates a whole scene; throws SceneError listing every problem.
 Scene read_scene(const Json& root, Registry& registry, const std::string& name, std::vector<Diagnostic> earlier,
-                 std::vector<std::string> skipped_libraries = {});
+                 std::vector<std::string> skipped_libraries = {}, const std::filesystem::path& base_dir = {});
 
 // Shared by the sections.
 std::array<double, 3> to_array(const std::vector<double>& v);

@@ -83,6 +83,18 @@ std::optional<ParamValue> convert(const json& v, const Param& p, const std::stri
       }
       return ParamValue{xs};
     }
+    case ParamType::Table: {
+      if (!v.is_array()) return fail("wrong type");
+      std::vector<double> xs;
+      for (const auto& row : v) {
+        if (!row.is_array() || static_cast<int>(row.size()) != p.length) return fail("wrong shape of a row");
+        for (const auto& e : row) {
+          if (!e.is_number()) return fail("wrong type of component");
+          xs.push_back(e.get<double>());
+        }
+      }
+      return ParamValue{xs};
+    }
     case ParamType::StringList: {
       if (!v.is_array()) return fail("wrong type");
       std::vector<std::string> xs;

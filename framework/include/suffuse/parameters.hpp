@@ -13,9 +13,10 @@
 
 namespace suffuse {
 
-enum class ParamType { Number, Integer, Boolean, String, Choice, Vector, StringList };
+enum class ParamType { Number, Integer, Boolean, String, Choice, Vector, StringList, Table };
 
 // A parameter value after validation.
+// A Table is rows of numbers, each row `length` long, stored row after row.
 using ParamValue =
     std::variant<double, long long, bool, std::string, std::vector<double>, std::vector<std::string>>;
 
@@ -32,7 +33,7 @@ struct Param {
   bool min_exclusive = false;
   bool max_exclusive = false;
   std::vector<std::string> choices;  // Choice
-  int length = 0;                    // Vector: 0 means "one value per spatial dimension"
+  int length = 0;                    // Vector: 0 means "one value per spatial dimension"; Table: columns
 
   // Fluent setters, used as schema.number("E").with_unit("Pa").above(0).doc("...").
   Param& with_unit(std::string u) { unit = std::move(u); return *this; }
@@ -58,6 +59,12 @@ class ParameterSchema {
   Param& string(std::string name) { return add(std::move(name), ParamType::String); }
   Param& vector(std::string name) { return add(std::move(name), ParamType::Vector); }
   Param& string_list(std::string name) { return add(std::move(name), ParamType::StringList); }
+  // Rows of `columns` numbers, e.g. [[0.1, 0], [0.2, 35]]: read with Parameters::vector, row after row.
+  Param& table(std::string name, int columns) {
+    Param& p = add(std::move(name), ParamType::Table);
+    p.length = columns;
+    return p;
+  }
   Param& choice(std::string name, std::vector<std::string> choices) {
     Param& p = add(std::move(name), ParamType::Choice);
     p.choices = std::move(choices);

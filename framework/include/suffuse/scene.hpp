@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "suffuse/diagnostics.hpp"
+#include "suffuse/internal_stability.hpp"
 #include "suffuse/parameters.hpp"
 #include "suffuse/plugin.hpp"
 #include "suffuse/plugin_loader.hpp"
@@ -49,12 +50,17 @@ struct BodySpec {
   double fines_content = 0;           // f_c: erodible fines / solid volume, initial [-]
   double ultimate_fines_content = 0;  // f_c_inf: the part of f_c that never erodes [-]
   double concentration = 0;           // c: suspended fines / pore liquid volume, initial [-]
+  std::string gradation_source;       // the body's PSD: its file, or its JSON pointer when inline
+  std::optional<InternalStability> internal_stability;  // the criteria on its gradation, if it has one
+  bool fines_content_from_gradation = false;            // fines_content is the gradation's erodible fines
 };
 
 struct OutputSpec {
   PluginNode writer;
-  std::optional<double> interval;  // [s]; absent: end time / 20
+  std::optional<double> interval;  // [s]; absent: end time / the writer's default frame count
+  std::optional<std::string> name;  // names its files (output_basename)
 };
+
 
 // A boundary condition whose reaction the run records: the force its
 // velocity constraints exert on the skeleton's nodes, and how far it moved
@@ -106,6 +112,10 @@ struct Scene {
     return false;
   }
 };
+
+// The stem of an output's files: <scene>.<name>, or <scene> when it is the
+// only writer of its type, else <scene>_<index in /outputs>.
+std::string output_basename(const Scene& scene, std::size_t output);
 
 // Reads a scene file, loads the plugins it needs (scene paths, then the
 // default search path) into `registry`, and validates the whole scene against

@@ -1,5 +1,5 @@
 // writer/csv_probe: the time series of one probe as CSV, one row per frame,
-// a header with units. A probe is where users look in a laboratory test:
+// a header with units, in <scene>.<output name>.csv. A probe is where users look in a laboratory test:
 //   "at":                 one material point (the one nearest that position
 //                         at the start), followed as it moves: the
 //                         settlement of a surface, the pore pressure at a depth;
@@ -29,7 +29,6 @@ class CsvProbe final : public suffuse::Writer {
  public:
   static suffuse::ParameterSchema schema() {
     suffuse::ParameterSchema s;
-    s.string("name").doc("Names the file, <scene>.<name>.csv (letters, digits, _ and -)");
     s.string_list("fields").doc(
         "Point fields to record (a column per component); a face probe takes darcy_flux (the flow rate out "
         "through the face [m^3/s, per metre in 2D]), fines_discharged and liquid_discharged (the mass that left "
@@ -46,11 +45,6 @@ class CsvProbe final : public suffuse::Writer {
 
   static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters& p, int dim) {
     std::vector<suffuse::ParameterIssue> issues;
-    const std::string& name = p.string("name");
-    if (name.empty() || !std::all_of(name.begin(), name.end(), [](char c) {
-          return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-        }))
-      issues.push_back({"name", "not a file-name part", "letters, digits, _ and -", "\"" + name + "\""});
     const int kinds = p.has("at") + (p.has("box_min") || p.has("box_max")) + p.has("face");
     if (kinds != 1)
       issues.push_back({"", "no unique probe", "one of \"at\", \"box_min\" and \"box_max\", or \"face\"",
@@ -80,7 +74,7 @@ class CsvProbe final : public suffuse::Writer {
   }
 
   explicit CsvProbe(const suffuse::PluginArgs& args)
-      : dim_(args.dim), name_(args.params.string("name")), fields_(args.params.string_list("fields")),
+      : dim_(args.dim), where_(args.instance), fields_(args.params.string_list("fields")),
         reduce_(args.params.string("reduce")) {
     const auto& p = args.params;
     if (p.has("at")) at_ = p.vector("at");
@@ -97,13 +91,13 @@ class CsvProbe final : public suffuse::Writer {
   int default_frame_count() const override { return 200; }
 
   void open(const fs::path& directory, const std::string& basename) override {
-    file_ = directory / (basename + "." + name_ + ".csv");
+    file_ = directory / (basename + ".csv");
     out_.open(file_, std::ios::trunc);
     if (!out_) throw suffuse::Error("writer/csv_probe: cannot write " + file_.string());
     header_due_ = true;
   }
   void resume(const fs::path& directory, const std::string& basename, const suffuse::ResumePoint& at) override {
-    file_ = directory / (basename + "." + name_ + ".csv");
+    file_ = directory / (basename + ".csv");
     const bool kept = suffuse::keep_csv_rows_until(file_, at.time);
     out_.open(file_, kept ? std::ios::app : std::ios::trunc);
     if (!out_) throw suffuse::Error("writer/csv_probe: cannot write " + file_.string());
@@ -165,7 +159,7 @@ class CsvProbe final : public suffuse::Writer {
         followed_ = p;
       }
     }
-    if (!followed_) throw suffuse::Error("writer/csv_probe '" + name_ + "': the run has no material points");
+    if (!followed_) throw suffuse::Error(where_ + " (writer/csv_probe): the run has no material points");
     return *followed_;
   }
 
@@ -222,7 +216,7 @@ class CsvProbe final : public suffuse::Writer {
         const auto flux = std::find_if(frame.grid_fields.begin(), frame.grid_fields.end(),
                                        [](const suffuse::GridField& g) { return g.name == "darcy_flux"; });
         if (flux == frame.grid_fields.end())
-          throw suffuse::Error("writer/csv_probe '" + name_ + "': the run projects no Darcy flux (a dry run?)");
+          throw suffuse::Error(where_ + " (writer/csv_probe): the run projects no Darcy flux (a dry run?)");
         double q = 0;
         for (std::int64_t node : suffuse::face_nodes(frame.grid, *face_))
           q += flux->values[node * dim_ + face_->axis] * face_->outward() *
@@ -241,7 +235,7 @@ class CsvProbe final : public suffuse::Writer {
   }
 
   int dim_;
-  std::string name_;
+  std::string where_;
   std::vector<std::string> fields_;
   std::string reduce_;
   std::vector<double> at_, box_min_, box_max_;
