@@ -338,8 +338,14 @@ TEST(EndToEnd, SuffusionColumnWritesItsLedger) {
   const double eroded = std::stod(rows.back()[column("eroded")]);
   EXPECT_GT(previous, 0.05 * eroded) << "fines left through the top";
 
-  const auto frames = read_pvd(out / "column.pvd");
+  // The default scene's probe of the top: the ledger's discharge, to the last digit printed.
+  const auto outflow = suffuse::test::read_csv(out / "column.outflow.csv");
+  EXPECT_EQ(outflow.rows.back()[outflow.column("fines_discharged")],
+            std::stod(rows.back()[out_top]) - std::stod(rows.back()[column("fines_in_top")]));
+
+  const auto frames = read_pvd(out / "column.pvd", 0);
   ASSERT_FALSE(frames.empty());
+  EXPECT_EQ(read_pvd(out / "column.pvd", 1).size(), frames.size()) << "a grid file with each frame of points";
   vtkNew<vtkXMLPolyDataReader> reader;
   reader->SetFileName((out / frames.back().file).c_str());
   reader->Update();
