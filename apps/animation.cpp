@@ -10,6 +10,7 @@
 #include <system_error>
 #include <vector>
 
+#include "chart_output.hpp"
 #include "colour_map.hpp"
 #include "field_plots.hpp"
 #include "gif_file.hpp"

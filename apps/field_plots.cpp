@@ -8,6 +8,7 @@
 #include <sstream>
 #include <suffuse/error.hpp>
 
+#include "chart_output.hpp"
 #include "colour_map.hpp"
 #include "format_number.hpp"
 #include "offscreen_render_window.hpp"
