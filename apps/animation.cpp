@@ -15,7 +15,6 @@
 #include "field_plots.hpp"
 #include "gif_file.hpp"
 #include "offscreen_render_window.hpp"
-#include "output_file.hpp"
 #include "point_field.hpp"
 #include "vtk_series.hpp"
 
@@ -42,7 +41,7 @@ void write_animation(const AnimationOptions& o, std::ostream& log) {
   std::error_code ec;
   if (!o.frames.empty() && fs::exists(o.frames, ec) && !fs::is_directory(o.frames, ec))
     throw Error("--frames " + o.frames.string() + ": it is a file, not a directory");
-  if (!o.gif.empty()) check_output_path(o.gif);
+  if (!o.gif.empty()) render::check_writable(o.gif);
   const PointSeries series = read_point_series(o.series);
 
   std::vector<std::size_t> frames;
@@ -65,7 +64,7 @@ void write_animation(const AnimationOptions& o, std::ostream& log) {
     const MapPanel panel{points, point_field(points, o.field), series.frames[frames[k]].time};
     auto image = canvas.draw({panel}, range);
     if (!o.frames.empty())
-      write_atomically(frame_png(o.frames, o.field, k), [&](const fs::path& part) {
+      render::write_atomically(frame_png(o.frames, o.field, k), [&](const fs::path& part) {
         render::VtkMessages messages;
         render::write_png(image, part, messages);
       });
@@ -75,7 +74,7 @@ void write_animation(const AnimationOptions& o, std::ostream& log) {
     log << "wrote " << frames.size() << " frames to " << frame_png(o.frames, o.field, 0).string() << " ...\n";
   if (!o.gif.empty()) {
     const int delay = static_cast<int>(std::lround(100 * o.seconds_per_frame));
-    write_atomically(o.gif, [&](const fs::path& part) { write_gif(part, images, delay); });
+    render::write_atomically(o.gif, [&](const fs::path& part) { write_gif(part, images, delay); });
     log << "wrote " << o.gif.string() << " (" << images.size() << " frames)\n";
   }
 }

@@ -1,8 +1,10 @@
 #include "chart_output.hpp"
 
+#include <vtkAxis.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
+#include <vtkPen.h>
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
 
@@ -58,6 +60,40 @@ void write_png(vtkImageData* image, const fs::path& file, const VtkMessages& mes
   writer->Write();
   messages.check("cannot write " + file.string());
   if (writer->GetErrorCode() != 0) throw Error("cannot write " + file.string());
+}
+
+void style_axis(vtkAxis* axis, const std::string& title, int title_size, int label_size) {
+  axis->SetTitle(title);
+  style_text(axis->GetTitleProperties(), title_size, true);
+  style_text(axis->GetLabelProperties(), label_size, false);
+  axis->GetPen()->SetColor(0, 0, 0);
+  axis->GetGridPen()->SetColor(225, 225, 225);
+}
+
+void check_image_size(int width, int height) {
+  constexpr int max_pixels = 10000;
+  if (width < 100 || width > max_pixels || height < 100 || height > max_pixels)
+    throw Error("--width and --height must be between 100 and " + std::to_string(max_pixels) + " pixels");
+}
+
+void check_writable(const fs::path& file) {
+  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error("cannot write " + file.string() + ": no directory " + dir.string());
+  if (fs::is_directory(file, ec)) throw Error("cannot write " + file.string() + ": it is a directory");
+}
+
+void write_atomically(const fs::path& file, const std::function<void(const fs::path&)>& draw) {
+  const fs::path part = file.string() + ".part";
+  try {
+    draw(part);
+    fs::rename(part, file);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    fs::remove(part, ec);
+    if (dynamic_cast<const Error*>(&e)) throw;
+    throw Error("cannot write " + file.string() + ": " + e.what());
+  }
 }
 
 }  // namespace suffuse::render

@@ -6,9 +6,12 @@
 #include <vtkSmartPointer.h>
 
 #include <filesystem>
+#include <functional>
+#include <string>
 
 #include "offscreen_render_window.hpp"
 
+class vtkAxis;
 class vtkTextProperty;
 
 namespace suffuse::render {
@@ -29,5 +32,21 @@ vtkSmartPointer<vtkImageData> read_image(vtkGenericOpenGLRenderWindow* window, i
 
 // Writes IMAGE to FILE as PNG. Throws suffuse::Error.
 void write_png(vtkImageData* image, const std::filesystem::path& file, const VtkMessages& messages);
+// An axis as every figure draws it: TITLE in bold at TITLE_SIZE points, tick
+// labels at LABEL_SIZE, a black axis line and a light grey grid.
+void style_axis(vtkAxis* axis, const std::string& title, int title_size, int label_size);
+
+// Throws suffuse::Error unless WIDTH x HEIGHT is a sane image size (100 to
+// 10000 pixels each way: --width and --height).
+void check_image_size(int width, int height);
+
+// Throws suffuse::Error unless FILE can be written: its directory exists and
+// FILE is not a directory.
+void check_writable(const std::filesystem::path& file);
+
+// DRAW writes the image to the path it is given, FILE.part, which is then
+// renamed FILE: a reader never sees half a file, and on an error nothing is
+// left. Throws suffuse::Error.
+void write_atomically(const std::filesystem::path& file, const std::function<void(const std::filesystem::path&)>& draw);
 
 }  // namespace suffuse::render

@@ -25,7 +25,6 @@
 #include "chart_output.hpp"
 #include "format_number.hpp"
 #include "offscreen_render_window.hpp"
-#include "output_file.hpp"
 #include "vtk_series.hpp"
 
 namespace suffuse::plot {
@@ -193,7 +192,7 @@ MapLayout map_layout(const std::array<double, 4>& body, int panels, int width, i
     const int panel = std::max(120, static_cast<int>(std::ceil(body_width / aspect)) + time_band + margin);
     layout.height = height > 0 ? height : std::min(10000, layout.panels * panel);
   }
-  check_image_size(layout.width, layout.height);
+  render::check_image_size(layout.width, layout.height);
   const double pw = layout.in_row ? static_cast<double>(layout.width - bar_strip) / layout.panels
                                   : layout.width - bar_strip;
   const double ph = layout.in_row ? layout.height : static_cast<double>(layout.height) / layout.panels;

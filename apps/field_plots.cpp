@@ -12,7 +12,6 @@
 #include "colour_map.hpp"
 #include "format_number.hpp"
 #include "offscreen_render_window.hpp"
-#include "output_file.hpp"
 #include "point_field.hpp"
 
 namespace suffuse::plot {
@@ -66,9 +65,9 @@ std::vector<std::size_t> frames_at(const PointSeries& series, const std::vector<
 void write_profiles(const ProfileOptions& o, std::ostream& log) {
   if (o.png.empty()) throw Error("suffuse plot profile needs --png OUT.png");
   if (o.fields.empty()) throw Error("suffuse plot profile needs at least one --field NAME");
-  check_image_size(o.width, o.height);
+  render::check_image_size(o.width, o.height);
   if (!(o.line.band >= 0) || !std::isfinite(o.line.band)) throw Error("--band must be a width in metres, at least 0");
-  check_output_path(o.png);
+  render::check_writable(o.png);
   const PointSeries series = read_point_series(o.series);
   const std::vector<std::size_t> frames = frames_at(series, o.times, log);
 
@@ -130,7 +129,7 @@ void write_map(const MapOptions& o, std::ostream& log) {
   if (o.png.empty()) throw Error("suffuse plot map needs --png OUT.png");
   if (o.field.empty()) throw Error("suffuse plot map needs --field NAME");
   if (o.range) check_range(*o.range);
-  check_output_path(o.png);
+  render::check_writable(o.png);
   const PointSeries series = read_point_series(o.series);
   const std::vector<std::size_t> frames =
       o.times.empty() ? std::vector<std::size_t>{series.frames.size() - 1} : frames_at(series, o.times, log);
@@ -149,7 +148,7 @@ void write_map(const MapOptions& o, std::ostream& log) {
   }
   ColourMapCanvas canvas(layout);
   const auto image = canvas.draw(panels, range);
-  write_atomically(o.png, [&](const fs::path& part) {
+  render::write_atomically(o.png, [&](const fs::path& part) {
     render::VtkMessages messages;
     render::write_png(image, part, messages);
   });

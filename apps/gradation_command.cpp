@@ -13,6 +13,7 @@
 #include <suffuse/gradation.hpp>
 
 #include "gradation_figure.hpp"
+#include "subcommand_options.hpp"
 
 namespace suffuse::gradation_command {
 
@@ -101,20 +102,10 @@ int run(int argc, char** argv) {
   po::options_description opts("Options of suffuse gradation");
   opts.add_options()("help,h", "show this help")("json", "print JSON instead of the table")(
       "png", po::value<std::string>(), "also draw the PSD and its shape curve with the criteria's boundaries");
-  po::options_description hidden;
-  hidden.add_options()("file", po::value<std::vector<std::string>>());
-  po::options_description all;
-  all.add(opts).add(hidden);
-  po::positional_options_description positional;
-  positional.add("file", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << usage << "\n" << opts;
-    return 0;
-  }
-  const auto files = vm.count("file") ? vm["file"].as<std::vector<std::string>>() : std::vector<std::string>{};
+  const auto parsed = subcommand::parse(argc, argv, opts, usage);
+  if (!parsed) return 0;
+  const po::variables_map& vm = parsed->options;
+  const std::vector<std::string>& files = parsed->files;
   if (files.size() != 1) throw Error("suffuse gradation needs one PSD file (.csv or .json), found " +
                                      std::to_string(files.size()));
   const Gradation g = read_gradation_file(files[0]);

@@ -19,7 +19,6 @@
 #include <array>
 #include <string>
 #include <suffuse/error.hpp>
-#include <system_error>
 #include <vector>
 
 #include "chart_output.hpp"
@@ -41,11 +40,7 @@ struct Line {
 
 void set_axis(vtkChartXY* chart, int which, const std::string& title, double lo, double hi, bool log) {
   vtkAxis* axis = chart->GetAxis(which);
-  axis->SetTitle(title);
-  render::style_text(axis->GetTitleProperties(), 17, true);
-  render::style_text(axis->GetLabelProperties(), 14, false);
-  axis->GetPen()->SetColor(0, 0, 0);
-  axis->GetGridPen()->SetColor(225, 225, 225);
+  render::style_axis(axis, title, 17, 14);
   axis->SetBehavior(vtkAxis::FIXED);
   axis->SetRange(lo, hi);
   axis->SetLogScale(log);
@@ -134,19 +129,8 @@ void render_to(const Gradation& g, const InternalStability& s, const fs::path& f
 }  // namespace
 
 void write_png(const Gradation& g, const InternalStability& s, const fs::path& file) {
-  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw Error("cannot write " + file.string() + ": no directory " + dir.string());
-  if (fs::is_directory(file, ec)) throw Error("cannot write " + file.string() + ": it is a directory");
-  const fs::path part = file.string() + ".part";
-  try {
-    render_to(g, s, part);
-    fs::rename(part, file);
-  } catch (const std::exception& e) {
-    fs::remove(part, ec);
-    if (dynamic_cast<const Error*>(&e)) throw;
-    throw Error("cannot write " + file.string() + ": " + e.what());
-  }
+  render::check_writable(file);
+  render::write_atomically(file, [&](const fs::path& part) { render_to(g, s, part); });
 }
 
 }  // namespace suffuse::gradation_figure

@@ -35,11 +35,11 @@
 #include "chart_output.hpp"
 #include "format_number.hpp"
 #include "offscreen_render_window.hpp"
-#include "output_file.hpp"
 
 namespace suffuse::plot {
 
 namespace fs = std::filesystem;
+using render::style_axis;
 using render::style_text;
 
 namespace {
@@ -195,14 +195,7 @@ void render(const std::vector<Series>& series, const PlotOptions& o, const std::
       style_text(chart->GetTitleProperties(), 20, true);
     }
     const std::pair<int, const std::string*> axes[] = {{vtkAxis::BOTTOM, &xlabel}, {vtkAxis::LEFT, &ylabel}};
-    for (const auto& [which, label] : axes) {
-      vtkAxis* axis = chart->GetAxis(which);
-      axis->SetTitle(*label);
-      style_text(axis->GetTitleProperties(), 18, true);
-      style_text(axis->GetLabelProperties(), 15, false);
-      axis->GetPen()->SetColor(0, 0, 0);
-      axis->GetGridPen()->SetColor(225, 225, 225);
-    }
+    for (const auto& [which, label] : axes) style_axis(chart->GetAxis(which), *label, 18, 15);
     // Axis ranges a little wider than the data, so that lines along an end of
     // the range stay whole; a flat line gets +-10 % of its value.
     for (const int which : {vtkAxis::BOTTOM, vtkAxis::LEFT}) {
@@ -299,10 +292,10 @@ void write_plot(const PlotOptions& o) {
   if (o.x.empty()) throw Error("suffuse plot needs --x COLUMN");
   if (o.y.empty()) throw Error("suffuse plot needs at least one --y COLUMN");
   if (o.files.empty()) throw Error("suffuse plot needs at least one CSV file");
-  check_image_size(o.width, o.height);
+  render::check_image_size(o.width, o.height);
   if (!std::isfinite(o.scale_x) || !std::isfinite(o.scale_y) || o.scale_x == 0 || o.scale_y == 0)
     throw Error("--scale-x and --scale-y must be finite and not zero");
-  check_output_path(o.png);
+  render::check_writable(o.png);
 
   // Read and check everything before drawing anything.
   const std::vector<std::string> names = legend_names(o.files, o.full_names);
@@ -340,9 +333,9 @@ void write_plot(const PlotOptions& o) {
 
 void write_line_chart(const std::vector<Series>& series, const PlotOptions& o, const std::string& xlabel,
                       const std::string& ylabel) {
-  check_output_path(o.png);
-  // Draw into OUT.png.part, then rename: a reader never sees half a file.
-  write_atomically(o.png, [&](const fs::path& part) { render(series, o, xlabel, ylabel, part); });
+  render::check_image_size(o.width, o.height);
+  render::check_writable(o.png);
+  render::write_atomically(o.png, [&](const fs::path& part) { render(series, o, xlabel, ylabel, part); });
 }
 
 }  // namespace suffuse::plot

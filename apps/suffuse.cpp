@@ -7,7 +7,10 @@
 //   suffuse plot --png OUT.png --x COLUMN --y COLUMN [options] FILE.csv [FILE.csv ...]
 //   suffuse plot profile|map|animate [options] RUN
 //   suffuse gradation PSD.csv [--json] [--png FILE.png]
+#include <signal.h>
 #include <unistd.h>
+
+#include <atomic>
 
 #include <boost/program_options.hpp>
 #include <chrono>
@@ -32,6 +35,7 @@
 #include "field_plot_command.hpp"
 #include "gradation_command.hpp"
 #include "plot.hpp"
+#include "subcommand_options.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -296,6 +300,26 @@ int cmd_element(const fs::path& scene_file, const fs::path& output, bool quiet) 
   return 0;
 }
 
+// SIGINT and SIGTERM ask the run to stop after its step (outputs closed, a
+// checkpoint written); a second signal kills at once (SA_RESETHAND). The flag
+// is the one piece of global state: a signal handler can reach nothing else.
+std::atomic<bool> stop_requested{false};
+std::atomic<int> stop_signal{0};
+
+extern "C" void request_stop(int signal) {
+  stop_signal.store(signal);
+  stop_requested.store(true);
+}
+
+void stop_on_signals() {
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
 // What `suffuse run` takes besides the scene.
 struct RunCommand {
   fs::path output;
@@ -350,6 +374,8 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
   options.output_dir = output;
   options.checkpoint_interval = command.checkpoint_every;
   options.restart = command.restart;
+  options.stop = &stop_requested;
+  stop_on_signals();
   auto last = std::chrono::steady_clock::now();
   int next_tenth = 1;
   // A restarted run starts at a later step and time: rates count from there.
@@ -388,6 +414,14 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
   }
   const suffuse::RunSummary s = sim.run(options);
   if (terminal) std::fprintf(stderr, "\n");
+  if (s.interrupted) {
+    const fs::path checkpoint = output / (scene.name + ".checkpoint");
+    std::cerr << "suffuse: interrupted (signal " << stop_signal.load() << ") at t = " << s.simulated_time
+              << " s, step " << sim.steps() << ": every output is closed";
+    if (!output.empty()) std::cerr << "; continue with --restart " << checkpoint.string();
+    std::cerr << "\n";
+    return 128 + stop_signal.load();
+  }
   if (!quiet) {
     const auto& t = s.stages;
     std::cout << "done: " << s.steps << " steps to t = " << s.simulated_time << " s in "
@@ -441,25 +475,14 @@ int cmd_plot(int argc, char** argv) {
       "legend", po::value<std::string>()->default_value("auto"),
       "legend corner: top-left, top-right, bottom-left, bottom-right, or auto (the corner the lines cross least)")(
       "full-names", "legend with the whole file names (without .csv)");
-  po::options_description hidden;
-  hidden.add_options()("file", po::value<std::vector<std::string>>());
-  po::options_description all;
-  all.add(opts).add(hidden);
-  po::positional_options_description positional;
-  positional.add("file", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << plot_usage << "\n" << opts;
-    return 0;
-  }
+  const auto parsed = suffuse::subcommand::parse(argc, argv, opts, plot_usage);
+  if (!parsed) return 0;
+  const po::variables_map& vm = parsed->options;
   suffuse::plot::PlotOptions o;
   if (vm.count("png")) o.png = vm["png"].as<std::string>();
   if (vm.count("x")) o.x = vm["x"].as<std::string>();
   if (vm.count("y")) o.y = vm["y"].as<std::vector<std::string>>();
-  if (vm.count("file"))
-    for (const auto& f : vm["file"].as<std::vector<std::string>>()) o.files.emplace_back(f);
+  for (const auto& f : parsed->files) o.files.emplace_back(f);
   o.title = vm["title"].as<std::string>();
   o.xlabel = vm["xlabel"].as<std::string>();
   o.ylabel = vm["ylabel"].as<std::string>();

@@ -10,6 +10,11 @@
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -462,4 +467,50 @@ TEST(EndToEnd, GridWriterRefusesAMissingCellField) {
   EXPECT_NE(slurp(out / "log.txt").find("reads point field 'fines_content', which this scene does not provide"),
             std::string::npos)
       << slurp(out / "log.txt");
+}
+
+// SIGTERM (or SIGINT) during a run: the step finishes, every output is
+// closed with a frame at that time, a checkpoint is written, the exit status
+// is 128 + the signal; the run then continues from the checkpoint to its end.
+TEST(EndToEnd, TerminatedRunClosesItsOutputsAndResumes) {
+  const fs::path out = fresh_dir("signal");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  j["time"]["end"] = 4.0;
+  for (auto& o : j["outputs"]) o["interval"] = 0.25;
+  std::ofstream(out / "column.json") << j.dump(2);
+  const std::string exe = SUFFUSE_EXECUTABLE, scene = (out / "column.json").string(), dir = out.string();
+  const char* argv[] = {exe.c_str(), "run", scene.c_str(), "--output", dir.c_str(), "--quiet", nullptr};
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, exe.c_str(), nullptr, nullptr, const_cast<char* const*>(argv), environ), 0);
+  // Signal once a few frames are out (the run is then well inside its loop).
+  for (int i = 0; i < 600 && !fs::exists(out / "column_000002.vtp"); ++i) usleep(50000);
+  ASSERT_TRUE(fs::exists(out / "column_000002.vtp")) << "the run did not start";
+  kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed instead of stopping";
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+
+  // Every listed file is there and readable, the last frame is the stop time.
+  const auto points = read_pvd(out / "column.pvd", 0), grid = read_pvd(out / "column.pvd", 1);
+  ASSERT_GE(points.size(), 3u);
+  ASSERT_EQ(grid.size(), points.size());
+  ASSERT_LT(points.back().time, 4.0) << "the signal came before the end";
+  for (const Frame& f : points) {
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((out / f.file).c_str());
+    reader->Update();
+    EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 640) << f.file;
+  }
+  const auto ledger = suffuse::test::read_csv(out / "column.ledger.csv");
+  EXPECT_NEAR(ledger.rows.back()[0], points.back().time, 1e-12) << "a ledger row at the stop";
+  ASSERT_TRUE(fs::exists(out / "column.checkpoint"));
+
+  ASSERT_EQ(run("run " + scene + " --output " + dir + " --quiet --restart " + (out / "column.checkpoint").string(),
+                out / "log.txt"),
+            0)
+      << slurp(out / "log.txt");
+  const auto resumed = read_pvd(out / "column.pvd", 0);
+  EXPECT_NEAR(resumed.back().time, 4.0, 1e-12);
+  for (std::size_t k = 1; k < resumed.size(); ++k) EXPECT_GT(resumed[k].time, resumed[k - 1].time) << "each time once";
 }

@@ -2,6 +2,7 @@
 // study's gap-graded soil, and the exact errors of bad PSD input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -136,6 +137,41 @@ TEST(Gradation, DemStudySoilIsUnstableByTheCriteriaItWasChosenWith) {
   for (const char* id : {"kezdi", "kenney_lau_1985", "kenney_lau_1986", "burenkova"})
     EXPECT_EQ(criterion(s, id).verdict, Verdict::unstable) << id;
   EXPECT_EQ(s.erodible_fines, 0.35);
+}
+
+// Kezdi's split as Skempton and Brogan (1994, Geotechnique 44(3): 449-460,
+// Introduction) apply it: for a split at S % passing, read d'85 on the grading
+// curve at 0.85 S and D'15 at 0.85 S + 15, "then check at points a little
+// above and below to ensure that a maximum value" of D'15/d'85 "has been
+// found". The reported split must sit at those two points of the curve, and a
+// dense scan of every split (independent of the breakpoint search) must find
+// nothing larger. The curves are test curves, not published ones: a broadly
+// graded one with several kinks, and the DEM soil, whose supremum lies at a
+// jump of D(F) (the gap) and is only approached by the scan.
+TEST(Gradation, KezdiRatioIsTheMaximumOverSplitsReadAsSkemptonAndBroganDo) {
+  const Gradation broad({{0.075, 0}, {0.15, 8}, {0.6, 20}, {2, 35}, {4.75, 55}, {19, 80}, {37.5, 100}}, "broad");
+  const Gradation gap =
+      suffuse::read_gradation_file(suffuse::test::source_dir() / "share/gradations/dem_gap_graded.csv");
+  for (const Gradation* g : {&broad, &gap}) {
+    const auto& kezdi = criterion(suffuse::assess_internal_stability(*g), "kezdi");
+    const double split = kezdi.at_passing, coarse_d15 = kezdi.also.at(0).second, fine_d85 = kezdi.also.at(1).second;
+    // On the curve at 0.85 S + 15 and 0.85 S: a round-off check (1e-9), the
+    // points are interpolated exactly.
+    EXPECT_NEAR(g->passing(coarse_d15), 0.85 * split + 0.15, 1e-9) << g->source();
+    EXPECT_NEAR(g->passing(fine_d85), 0.85 * split, 1e-9) << g->source();
+    EXPECT_REL(kezdi.value, coarse_d15 / fine_d85);
+    double scanned = 0;
+    const int n = 200000;
+    for (int k = 1; k < n; ++k) {
+      const double s = static_cast<double>(k) / n;
+      if (0.85 * s < g->smallest_passing()) continue;
+      scanned = std::max(scanned, g->d(100 * (0.85 * s + 0.15)) / g->d(100 * 0.85 * s));
+    }
+    // Nothing above the reported maximum but round-off; and the scan comes
+    // within 0.1 % of it (a step of 5e-6 in S moves the sizes by far less).
+    EXPECT_LE(scanned, kezdi.value * (1 + 1e-9)) << g->source();
+    EXPECT_GE(scanned, kezdi.value * (1 - 1e-3)) << g->source();
+  }
 }
 
 TEST(Gradation, InterpolatesLinearlyInLogSizeWithoutOvershoot) {

@@ -84,8 +84,11 @@ RunSummary Simulation::run(const RunOptions& options) {
     step();
     const double now = clock_.time();
     const bool at_end = clock_.reached_end();
-    outputs.after_step(now, clock_.steps(), at_end);
-    if (!dir.empty() && (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() || (at_end && scene_.checkpoint_at_end))) {
+    const bool stopping = !at_end && options.stop && options.stop->load();
+    // An interrupted run ends like a finished one: a frame of every output and a checkpoint.
+    outputs.after_step(now, clock_.steps(), at_end || stopping);
+    if (!dir.empty() && (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() ||
+                         (at_end && scene_.checkpoint_at_end) || stopping)) {
       detail::StageTimer timer(times_, Stage::output);
       save_checkpoint(checkpoint, outputs.frames());
       checkpoint_due = next_checkpoint(now);
@@ -94,7 +97,9 @@ RunSummary Simulation::run(const RunOptions& options) {
       options.on_step(Progress{clock_.steps(), now, end, dt, domain_->points.size(),
                                std::chrono::duration<double>(Clock::now() - start).count()});
     }
+    if (stopping) break;
   }
+  const bool interrupted = !clock_.reached_end();
   clock_.run_until(std::numeric_limits<double>::infinity());
   outputs.close();
 
@@ -108,6 +113,7 @@ RunSummary Simulation::run(const RunOptions& options) {
       stepping > 0 ? static_cast<double>(summary.steps) * static_cast<double>(summary.points) / stepping : 0.0;
   summary.stages = times_;
   if (species_) summary.ledger = mass_ledger();
+  summary.interrupted = interrupted;
   return summary;
 }
 

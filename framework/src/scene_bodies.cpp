@@ -62,7 +62,9 @@ void read_fines(SceneReader& r, const Parameters& b, const std::string& ptr, Bod
     if (v != 0 && !b.has("liquid"))
       r.error(ptr + "/" + key, "fines in a dry body", "0 without \"liquid\"", format(v), "core (body)");
   }
-  if (body.ultimate_fines_content > body.fines_content)
+  // Compared only when both are valid: a rejected value is reported once.
+  const bool both_valid = (b.has("fines_content") || body.fines_content_from_gradation) && b.has("ultimate_fines_content");
+  if (both_valid && body.ultimate_fines_content > body.fines_content)
     r.error(ptr + "/ultimate_fines_content", "ultimate fines content above the initial one",
             "at most fines_content = " + format(body.fines_content), format(body.ultimate_fines_content),
             "core (body)");
@@ -82,6 +84,11 @@ void read_bodies(SceneReader& r, Scene& scene) {
     Parameters b = validate_object(bodies[i], body_schema(), ptr, "core (body)", r.dim, r.diags);
     BodySpec body;
     if (b.has("name")) body.name = b.string("name");
+    // Messages name bodies: two of one name would be ambiguous.
+    for (std::size_t k = 0; k < scene.bodies.size() && !body.name.empty(); ++k)
+      if (scene.bodies[k].name == body.name)
+        r.error(ptr + "/name", "duplicate body name", "a name no other body has", "\"" + body.name + "\", as /bodies/" +
+                std::to_string(k) + "/name", "core (body)");
     if (body.name.empty()) body.name = "body " + std::to_string(i);
     if (b.has("points_per_cell")) body.points_per_cell = static_cast<int>(b.integer("points_per_cell"));
     if (b.has("velocity")) body.velocity = to_array(b.vector("velocity"));

@@ -1,7 +1,11 @@
 #include "validation.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <optional>
+#include <set>
+#include <vector>
 #include <sstream>
 
 namespace suffuse::detail {
@@ -170,11 +174,77 @@ Json parse_scene_text(const std::string& text, const std::string& name) {
       --depth;
     }
   }
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw refuse("not valid JSON", "a JSON object", "an empty file");
+  // Keys given twice in one object: nlohmann keeps the last silently, so a
+  // second material or liquid of the same name would replace the first.
+  struct Container {
+    std::string pointer;
+    bool object;
+    std::set<std::string> keys;
+    std::string key;        // objects: the key being read
+    std::size_t count = 0;  // arrays: elements read
+  };
+  std::vector<Container> open;
+  std::optional<std::pair<std::string, std::string>> duplicate;  // pointer, key
+  auto child_pointer = [&]() {
+    if (open.empty()) return std::string();
+    const Container& c = open.back();
+    return pointer_append(c.pointer, c.object ? c.key : std::to_string(c.count));
+  };
+  auto element_done = [&]() {
+    if (!open.empty() && !open.back().object) ++open.back().count;
+  };
+  const Json::parser_callback_t track = [&](int, Json::parse_event_t event, Json& parsed) {
+    using E = Json::parse_event_t;
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+        open.push_back({child_pointer(), event == E::object_start, {}, {}, 0});
+        break;
+      case E::key: {
+        Container& c = open.back();
+        c.key = parsed.get<std::string>();
+        if (!c.keys.insert(c.key).second && !duplicate) duplicate = {pointer_append(c.pointer, c.key), c.key};
+        break;
+      }
+      case E::object_end:
+      case E::array_end:
+        open.pop_back();
+        element_done();
+        break;
+      case E::value:
+        element_done();
+        break;
+    }
+    return true;
+  };
+  Json root;
   try {
-    return Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw refuse("not valid JSON", "a JSON object", e.what());
+    root = Json::parse(text, track);
+  } catch (const Json::exception& e) {
+    // "[json.exception.parse_error.101] parse error at line 1, ...": the part after the tag.
+    std::string what = e.what();
+    if (const auto tag = what.find("] "); what.rfind("[json.exception.", 0) == 0 && tag != std::string::npos)
+      what = what.substr(tag + 2);
+    if (e.id == 406) what += " (a number beyond the range of a double is not finite)";
+    // The message quotes the bytes it read: show any that are not printable ASCII as \xNN.
+    std::string shown;
+    for (unsigned char c : what) {
+      if (c >= 0x20 && c < 0x7f) {
+        shown += static_cast<char>(c);
+      } else {
+        char hex[5];
+        std::snprintf(hex, sizeof hex, "\\x%02X", c);
+        shown += hex;
+      }
+    }
+    throw refuse("not valid JSON", "a JSON object", shown);
   }
+  if (duplicate)
+    throw SceneError(name, {{duplicate->first, "duplicate key", "each key once in its object",
+                             "\"" + duplicate->second + "\" twice", "core"}});
+  return root;
 }
 
 std::string read_scene_file(const std::filesystem::path& file) {

@@ -10,6 +10,7 @@
 //   SpeciesTransport  erosion, transport of liquid and fines, mass ledger
 //                     (saturated runs)
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -66,6 +67,10 @@ struct RunOptions {
   // Continue the run saved in this checkpoint instead of starting anew; the
   // outputs in output_dir continue after the checkpoint's time.
   std::filesystem::path restart;
+  // When it turns true (a signal handler may set it), the run finishes the
+  // step, writes every output and a checkpoint at that time, and returns
+  // with RunSummary::interrupted set.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct RunSummary {
@@ -76,6 +81,7 @@ struct RunSummary {
   double point_updates_per_second = 0;
   StageTimes stages;
   std::optional<MassLedger> ledger;  // saturated runs: the final balance
+  bool interrupted = false;          // stopped by RunOptions::stop before the end time
 };
 
 // Simulated time, advanced in one place. A step of size dt() ends at
