@@ -32,6 +32,11 @@ void style_text(vtkTextProperty* t, int size, bool bold) {
 
 void write_png(vtkGenericOpenGLRenderWindow* window, int width, int height, const fs::path& file,
                const VtkMessages& messages) {
+  write_png(read_image(window, width, height, messages), file, messages);
+}
+
+vtkSmartPointer<vtkImageData> read_image(vtkGenericOpenGLRenderWindow* window, int width, int height,
+                                         const VtkMessages& messages) {
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(window);
   grab->SetInputBufferTypeToRGB();
@@ -39,15 +44,19 @@ void write_png(vtkGenericOpenGLRenderWindow* window, int width, int height, cons
   grab->ShouldRerenderOff();
   grab->Update();
   messages.check("cannot read the image back");
+  vtkSmartPointer<vtkImageData> image = grab->GetOutput();
   int dims[3];
-  grab->GetOutput()->GetDimensions(dims);
+  image->GetDimensions(dims);
   if (dims[0] != width || dims[1] != height)
     throw Error("the image read back is " + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
                 " pixels, not " + std::to_string(width) + " x " + std::to_string(height));
+  return image;
+}
 
+void write_png(vtkImageData* image, const fs::path& file, const VtkMessages& messages) {
   vtkNew<vtkPNGWriter> writer;
   writer->SetFileName(file.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
+  writer->SetInputData(image);
   writer->Write();
   messages.check("cannot write " + file.string());
   if (writer->GetErrorCode() != 0) throw Error("cannot write " + file.string());
@@ -59,6 +68,12 @@ void style_axis(vtkAxis* axis, const std::string& title, int title_size, int lab
   style_text(axis->GetLabelProperties(), label_size, false);
   axis->GetPen()->SetColor(0, 0, 0);
   axis->GetGridPen()->SetColor(225, 225, 225);
+}
+
+void check_image_size(int width, int height) {
+  constexpr int max_pixels = 10000;
+  if (width < 100 || width > max_pixels || height < 100 || height > max_pixels)
+    throw Error("--width and --height must be between 100 and " + std::to_string(max_pixels) + " pixels");
 }
 
 void check_writable(const fs::path& file) {

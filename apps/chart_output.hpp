@@ -2,6 +2,9 @@
 // from the offscreen window (offscreen_render_window.hpp).
 #pragma once
 
+#include <vtkImageData.h>
+#include <vtkSmartPointer.h>
+
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -22,9 +25,20 @@ void style_text(vtkTextProperty* t, int size, bool bold);
 void write_png(vtkGenericOpenGLRenderWindow* window, int width, int height, const std::filesystem::path& file,
                const VtkMessages& messages);
 
+// The rendered WIDTH x HEIGHT image (RGB, bottom row first), read back; for
+// images kept or written later (the frames of an animation). Throws suffuse::Error.
+vtkSmartPointer<vtkImageData> read_image(vtkGenericOpenGLRenderWindow* window, int width, int height,
+                                         const VtkMessages& messages);
+
+// Writes IMAGE to FILE as PNG. Throws suffuse::Error.
+void write_png(vtkImageData* image, const std::filesystem::path& file, const VtkMessages& messages);
 // An axis as every figure draws it: TITLE in bold at TITLE_SIZE points, tick
 // labels at LABEL_SIZE, a black axis line and a light grey grid.
 void style_axis(vtkAxis* axis, const std::string& title, int title_size, int label_size);
+
+// Throws suffuse::Error unless WIDTH x HEIGHT is a sane image size (100 to
+// 10000 pixels each way: --width and --height).
+void check_image_size(int width, int height);
 
 // Throws suffuse::Error unless FILE can be written: its directory exists and
 // FILE is not a directory.

@@ -33,6 +33,7 @@
 
 #include "csv_table.hpp"
 #include "chart_output.hpp"
+#include "format_number.hpp"
 #include "offscreen_render_window.hpp"
 
 namespace suffuse::plot {
@@ -44,11 +45,6 @@ using render::style_text;
 namespace {
 
 // ---------------------------------------------------------------- series
-
-struct Series {
-  std::string label;
-  std::vector<double> x, y;
-};
 
 // File stems for the legend. With several files, the leading and trailing
 // parts that all stems share are dropped, cut at a '.', '-' or ' ' that is not
@@ -108,12 +104,6 @@ std::vector<std::string> legend_names(const std::vector<fs::path>& files, bool f
     if (!out.empty()) return out;
   }
   return stems;
-}
-
-std::string format_number(double v) {
-  std::ostringstream out;
-  out << v;
-  return out.str();
 }
 
 std::string scaled_label(const std::string& header, double scale) {
@@ -302,9 +292,7 @@ void write_plot(const PlotOptions& o) {
   if (o.x.empty()) throw Error("suffuse plot needs --x COLUMN");
   if (o.y.empty()) throw Error("suffuse plot needs at least one --y COLUMN");
   if (o.files.empty()) throw Error("suffuse plot needs at least one CSV file");
-  constexpr int max_pixels = 10000;
-  if (o.width < 100 || o.width > max_pixels || o.height < 100 || o.height > max_pixels)
-    throw Error("--width and --height must be between 100 and " + std::to_string(max_pixels) + " pixels");
+  render::check_image_size(o.width, o.height);
   if (!std::isfinite(o.scale_x) || !std::isfinite(o.scale_y) || o.scale_x == 0 || o.scale_y == 0)
     throw Error("--scale-x and --scale-y must be finite and not zero");
   render::check_writable(o.png);
@@ -340,6 +328,13 @@ void write_plot(const PlotOptions& o) {
     ylabel = scaled_label(ylabel, o.scale_y);
   }
 
+  write_line_chart(series, o, xlabel, ylabel);
+}
+
+void write_line_chart(const std::vector<Series>& series, const PlotOptions& o, const std::string& xlabel,
+                      const std::string& ylabel) {
+  render::check_image_size(o.width, o.height);
+  render::check_writable(o.png);
   render::write_atomically(o.png, [&](const fs::path& part) { render(series, o, xlabel, ylabel, part); });
 }
 

@@ -23,11 +23,23 @@ struct PlotOptions {
   bool full_names = false;                   // legend with whole file stems, no common part dropped
 };
 
+// One line of a chart.
+struct Series {
+  std::string label;
+  std::vector<double> x, y;
+};
+
 // The legend corner named NAME (auto, top-left, top-right, bottom-left, bottom-right); throws suffuse::Error.
 LegendCorner parse_legend_corner(const std::string& name);
 
 // Reads and checks every file and column first (nothing is written when one is
 // wrong), then draws and writes the PNG. Throws suffuse::Error.
 void write_plot(const PlotOptions& options);
+
+// Draws SERIES (each with at least one point) as lines into options.png, with
+// options' size, title and legend corner (its files and columns are not used).
+// Throws suffuse::Error; nothing is left behind on an error.
+void write_line_chart(const std::vector<Series>& series, const PlotOptions& options, const std::string& xlabel,
+                      const std::string& ylabel);
 
 }  // namespace suffuse::plot

@@ -5,6 +5,7 @@
 //   suffuse describe NAME
 //   suffuse schema
 //   suffuse plot --png OUT.png --x COLUMN --y COLUMN [options] FILE.csv [FILE.csv ...]
+//   suffuse plot profile|map|animate [options] RUN
 //   suffuse gradation PSD.csv [--json] [--png FILE.png]
 #include <signal.h>
 #include <unistd.h>
@@ -31,6 +32,7 @@
 #include <suffuse/version.hpp>
 #include <vector>
 
+#include "field_plot_command.hpp"
 #include "gradation_command.hpp"
 #include "plot.hpp"
 #include "subcommand_options.hpp"
@@ -58,6 +60,13 @@ const char* usage =
     "  suffuse plot --png OUT.png --x COLUMN --y COLUMN [--y COLUMN ...] [options] FILE.csv [FILE.csv ...]\n"
     "                                line charts of CSV columns (e.g. element-test results) to a PNG,\n"
     "                                no display needed; suffuse plot --help lists its options\n"
+    "  suffuse plot profile --png OUT.png --field NAME --from X,Y --to X,Y [--times T,T,...] RUN\n"
+    "                                a field along a line at several times (RUN: output directory or .pvd)\n"
+    "  suffuse plot map --png OUT.png --field NAME [--times T,T,...] [--range MIN MAX] RUN\n"
+    "                                a colour map of a field over the body (--slice of a 3D run)\n"
+    "  suffuse plot animate --field NAME [--frames DIR] [--gif OUT.gif] RUN\n"
+    "                                that map at every frame: numbered PNGs and an animated GIF\n"
+    "                                (suffuse plot profile --help, ... list their options)\n"
     "  suffuse gradation PSD.csv [--json] [--png FILE.png]\n"
     "                                internal stability of a particle-size distribution by the published\n"
     "                                criteria (Kezdi, Kenney-Lau, Burenkova, ...); suffuse gradation --help\n"
@@ -445,7 +454,8 @@ const char* plot_usage =
     "and a.eta_0.55.element.csv give eta_0 and eta_0.55); --full-names keeps it.\n"
     "The PNG is written as OUT.png.part, then renamed; nothing is written on an error.\n"
     "Example: suffuse plot --png strain.png --x eroded_fraction --y erosion_volumetric_strain\n"
-    "           --scale-x 100 --scale-y 100 output/suffosion_element/*.element.csv\n";
+    "           --scale-x 100 --scale-y 100 output/suffosion_element/*.element.csv\n"
+    "Figures of a run's material points: suffuse plot profile, map and animate (each with --help).\n";
 
 int cmd_plot(int argc, char** argv) {
   po::options_description opts("Options of suffuse plot");
@@ -491,6 +501,8 @@ int cmd_plot(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     // plot has options and a list of files of its own.
+    if (argc >= 3 && std::string(argv[1]) == "plot" && suffuse::plot::is_field_plot_mode(argv[2]))
+      return suffuse::plot::field_plot_command(argc - 2, argv + 2);
     if (argc >= 2 && std::string(argv[1]) == "plot") return cmd_plot(argc - 1, argv + 1);
     if (argc >= 2 && std::string(argv[1]) == "gradation") return suffuse::gradation_command::run(argc - 1, argv + 1);
     po::options_description opts("Options");

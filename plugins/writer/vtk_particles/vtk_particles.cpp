@@ -1,6 +1,7 @@
 // writer/vtk_particles: one binary .vtp per frame with every output field of
 // the points, listed in the run's .pvd collection with its simulation time.
 #include <vtkCellArray.h>
+#include <vtkInformation.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -54,7 +55,11 @@ class VtkParticles final : public suffuse::Writer {
     poly->SetVerts(vertices);
     for (suffuse::FieldId f = 0; f < pts.field_count(); ++f) {
       const suffuse::FieldInfo& info = pts.info(f);
-      if (info.output) poly->GetPointData()->AddArray(suffuse::vtk::make_array(info.name, info.kind, dim, n, pts.data(f)));
+      if (!info.output) continue;
+      auto array = suffuse::vtk::make_array(info.name, info.kind, dim, n, pts.data(f));
+      // The unit travels with the array (suffuse plot reads it for its labels).
+      array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), info.unit.c_str());
+      poly->GetPointData()->AddArray(array);
     }
     vtkNew<vtkXMLPolyDataWriter> writer;
     writer->SetInputData(poly);
