@@ -100,7 +100,7 @@ TEST(Probes, PointBoxAndLedgerFaceOnTheSuffusionColumn) {
                                 [](const suffuse::BoundaryDischarge& d) { return d.face == "top"; });
   ASSERT_NE(top, ledger.boundaries.end());
   const auto out = read_csv(dir / "column.out.csv");
-  EXPECT_EQ(out.header[1], "fines_discharged [kg]");
+  EXPECT_EQ(out.header[1], "fines_discharged [kg/m]") << "per metre of thickness in 2D";
   ASSERT_EQ(out.rows.size(), 51u);
   EXPECT_EQ(out.rows.back()[1], top->fines_out - top->fines_in);
   EXPECT_EQ(out.rows.back()[2], top->liquid_out - top->liquid_in);

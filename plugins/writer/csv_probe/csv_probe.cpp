@@ -32,7 +32,7 @@ class CsvProbe final : public suffuse::Writer {
     s.string_list("fields").doc(
         "Point fields to record (a column per component); a face probe takes darcy_flux (the flow rate out "
         "through the face [m^3/s, per metre in 2D]), fines_discharged and liquid_discharged (the mass that left "
-        "through the face so far, net of what came in [kg], from the mass ledger)");
+        "through the face so far, net of what came in [kg, per metre in 2D], from the mass ledger)");
     s.vector("at").with_unit("m").may_be_absent().doc(
         "A material point: the one nearest this position at the start, followed as it moves");
     s.vector("box_min").with_unit("m").may_be_absent().doc("Lower corner of a box of points (with box_max)");
@@ -127,7 +127,7 @@ class CsvProbe final : public suffuse::Writer {
     if (face_) {
       for (const std::string& f : fields_)
         out_ << ',' << (f == "darcy_flux" ? "flow_rate" : f) << " ["
-             << (f == "darcy_flux" ? (dim_ == 2 ? "m^2/s" : "m^3/s") : "kg") << ']';
+             << (f == "darcy_flux" ? (dim_ == 2 ? "m^2/s" : "m^3/s") : (dim_ == 2 ? "kg/m" : "kg")) << ']';
       out_ << '\n';
       return;
     }
