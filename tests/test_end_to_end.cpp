@@ -553,3 +553,37 @@ TEST(EndToEnd, ScenesThatCannotRunAreRefusedWithAnEstimate) {
   ASSERT_FALSE(frames.empty()) << "the frames before the blow-up stay listed";
   EXPECT_TRUE(fs::exists(out / "blowing" / frames.back().file));
 }
+
+// A phase that throws, or returns a stress that is not finite: the run stops
+// naming the plugin (or the point and field), the step and the points; the
+// frames written before stay listed and readable.
+TEST(EndToEnd, FailingPluginIsNamedAndOutputsStayReadable) {
+  const fs::path out = fresh_dir("failing");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  j["plugin_paths"] = {std::string(SUFFUSE_TEST_PLUGIN_DIR) + "/failing"};
+  j["materials"]["steel_like"] = {{"type", "phase/test_failing"}, {"failure", "throw"}};
+  std::ofstream(out / "throws.json") << j.dump(2);
+  j["materials"]["steel_like"]["failure"] = "nan";
+  std::ofstream(out / "nan.json") << j.dump(2);
+  for (const char* name : {"throws", "nan"}) {
+    const fs::path scene = out / (std::string(name) + ".json"), dir = out / name;
+    EXPECT_EQ(run("run " + scene.string() + " --quiet --output " + dir.string(), out / "log.txt"), 1) << name;
+    const std::string log = slurp(out / "log.txt");
+    if (std::string(name) == "throws")
+      EXPECT_NE(log.find("step 1 (t = 0 s), stage stress: phase phase/test_failing of material 'steel_like' "
+                         "(/materials/steel_like) failed on material points 0 to 79 of body 'bar': the test phase fails"),
+                std::string::npos)
+          << log;
+    else
+      EXPECT_NE(log.find("the run blew up at step 1 (t = 0.000790569 s): material point 79 of body 'bar' at "
+                         "(0.987508, 0.0375), material 'steel_like' (phase/test_failing): stress = nan, not finite"),
+                std::string::npos)
+          << log;
+    const auto frames = read_pvd(dir / (std::string(name) + ".pvd"));
+    ASSERT_EQ(frames.size(), 1u) << "the initial frame, listed";
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((dir / frames[0].file).c_str());
+    reader->Update();
+    EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 80);
+  }
+}

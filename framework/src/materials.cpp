@@ -6,7 +6,10 @@ namespace suffuse::detail {
 
 Materials::Materials(const Scene& scene, const Registry& registry) {
   phases_.reserve(scene.materials.size());
-  for (const MaterialSpec& m : scene.materials) phases_.emplace_back(registry, m.phase, m.base, scene.dim);
+  for (const MaterialSpec& m : scene.materials) {
+    phases_.emplace_back(registry, m.phase, m.base, scene.dim);
+    names_.push_back(m.phase.type + " of material '" + m.name + "' (" + m.phase.pointer + ")");
+  }
 }
 
 std::vector<const Phase*> Materials::phases() const {
@@ -31,8 +34,15 @@ void Materials::update_stress(Domain& d, double dt) const {
   PointSet& points = d.points;
   for (const BodyPoints& body : d.bodies) {
     const Phase& phase = phases_[body.material].phase();
+    // A phase that throws is named, with the points of its batch.
+    auto failed = [&](const std::exception& e, const PointRange& range) {
+      return Error("phase " + names_[body.material] + " failed on material points " +
+                   std::to_string(range.begin) + " to " + std::to_string(range.end - 1) + " of body '" + body.name +
+                   "': " + e.what());
+    };
     d.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {
       const PointRange range{body.range.begin + b, body.range.begin + e};
+      try {
       std::span<const double> eigenstrain;
       if (phase.writes_eigenstrain()) {
         const std::span<double> increment(points.data(*eigenstrain_increment_) + range.begin * 6, range.size() * 6);
@@ -43,6 +53,9 @@ void Materials::update_stress(Domain& d, double dt) const {
         eigenstrain = increment;
       }
       phase.update_stress(StressBatch{points, range, dt, eigenstrain});
+      } catch (const std::exception& error) {
+        throw failed(error, range);
+      }
     });
   }
 }

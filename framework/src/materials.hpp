@@ -28,6 +28,7 @@ class Materials {
 
  private:
   std::vector<MaterialPhase> phases_;
+  std::vector<std::string> names_;  // "phase/x of material 'm' (/materials/m)", for messages
   std::optional<FieldId> eigenstrain_, eigenstrain_increment_;
 };
 

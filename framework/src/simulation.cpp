@@ -156,7 +156,17 @@ double Simulation::critical_time_step() const {
 template <class Work>
 void Simulation::timed(Stage stage, Work&& work) {
   detail::StageTimer timer(times_, stage);
-  work();
+  try {
+    work();
+  } catch (const std::exception& e) {
+    // What failed (a plugin, a guard) says what and where; this says when.
+    const std::string what = e.what();
+    if (what.rfind("step ", 0) == 0 || what.find("blew up at step") != std::string::npos ||
+        what.find("left the grid at step") != std::string::npos)
+      throw;
+    throw Error("step " + std::to_string(clock_.steps() + 1) + " (t = " + detail::format(clock_.time()) +
+                " s), stage " + stage_name(stage) + ": " + what);
+  }
 }
 
 void Simulation::apply_loads(double time) {
