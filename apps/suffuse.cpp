@@ -248,10 +248,16 @@ int cmd_validate(const fs::path& scene_file) {
   suffuse::Registry registry;
   suffuse::PluginLoader loader(registry);
   const suffuse::Scene scene = suffuse::load_scene(scene_file, registry, loader);
+  // What the run would be: building it checks memory and the time step, as
+  // `run` does, and gives the numbers (nothing is written).
+  const suffuse::Simulation sim(scene, registry, 1);
   std::cout << scene_file.string() << " is valid: " << scene.dim << "D, " << scene.materials.size()
             << " material(s), " << scene.bodies.size() << " body(ies), " << scene.boundary_conditions.size()
             << " boundary condition(s), " << scene.outputs.size() << " output(s)\n";
   print_gradations(scene);
+  std::cout << "  run: " << sim.points().size() << " material points, dt = " << sim.dt() << " s ("
+            << (scene.dt ? "fixed" : "automatic") << "), " << std::llround(std::ceil(scene.end_time / sim.dt() - 1e-9))
+            << " steps to t = " << scene.end_time << " s\n";
   return 0;
 }
 

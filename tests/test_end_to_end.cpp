@@ -544,6 +544,14 @@ TEST(EndToEnd, ScenesThatCannotRunAreRefusedWithAnEstimate) {
   auto stiff = bar;
   stiff["materials"]["steel_like"]["youngs_modulus"] = 1e300;
   EXPECT_NE(refused(stiff, "stiff").find("the run would take 1.51789327688e+149 steps"), std::string::npos);
+  EXPECT_EQ(run("validate " + (out / "stiff.json").string(), out / "validate.log"), 1) << "validate says it too";
+  EXPECT_NE(slurp(out / "validate.log").find("the run would take 1.51789327688e+149 steps"), std::string::npos);
+  EXPECT_EQ(run("validate " + (suffuse::test::source_dir() / "share/scenes/elastic_bar.json").string(),
+                out / "validate.log"),
+            0);
+  EXPECT_NE(slurp(out / "validate.log").find("  run: 80 material points, dt = 0.00025 s (automatic), 480 steps to t = 0.12 s"),
+            std::string::npos)
+      << slurp(out / "validate.log");
   auto blowing = big_step;
   blowing["time"]["dt_above_stable"] = true;
   EXPECT_NE(refused(blowing, "blowing").find("the run blew up at step 5 (t = 0.01 s): material point 2 of body 'bar'"),
