@@ -557,6 +557,16 @@ TEST(EndToEnd, ScenesThatCannotRunAreRefusedWithAnEstimate) {
   EXPECT_NE(refused(blowing, "blowing").find("the run blew up at step 5 (t = 0.01 s): material point 2 of body 'bar'"),
             std::string::npos)
       << slurp(out / "blowing.log");
+  // Liquid forced in at 1000 m/s crosses cells in a step: the transport would no longer conserve its volume.
+  auto gush = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/upward_seepage.json");
+  nlohmann::json bcs = nlohmann::json::array();
+  for (const auto& bc : gush["boundary_conditions"])
+    if (!(bc["type"] == "bc/pore_pressure" && bc.value("face", "") == "bottom")) bcs.push_back(bc);
+  bcs.push_back({{"type", "bc/inflow_flux"}, {"face", "bottom"}, {"flux", 1000.0}});
+  gush["boundary_conditions"] = bcs;
+  EXPECT_NE(refused(gush, "gush").find("darcy_flux = 750, the pore liquid crosses more than half a cell in one step"),
+            std::string::npos)
+      << slurp(out / "gush.log");
   const auto frames = read_pvd(out / "blowing" / "blowing.pvd");
   ASSERT_FALSE(frames.empty()) << "the frames before the blow-up stay listed";
   EXPECT_TRUE(fs::exists(out / "blowing" / frames.back().file));

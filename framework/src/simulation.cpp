@@ -77,9 +77,9 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   materials_->add_fields(domain_->points);
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
-  guard_ = std::make_unique<detail::StepGuard>(
-      scene_, mixture_ ? std::optional<FieldId>(mixture_->fields().porosity) : std::nullopt,
-      mixture_ ? std::optional<FieldId>(mixture_->fields().pressure) : std::nullopt);
+  std::optional<detail::StepGuard::MixtureIds> mixture_ids;
+  if (mixture_) mixture_ids = {mixture_->fields().porosity, mixture_->fields().pressure, mixture_->fields().darcy_flux};
+  guard_ = std::make_unique<detail::StepGuard>(scene_, mixture_ids);
   grid_projection_ = std::make_unique<detail::GridProjection>(mixture_ ? &mixture_->fields() : nullptr);
   create_bodies();
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);

@@ -25,8 +25,10 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt) const
   const PointSet& pts = d.points;
   const double* v = pts.data(pts.core().velocity);
   const double* s = pts.data(pts.core().stress);
-  const double* n = porosity_ ? pts.data(*porosity_) : nullptr;
-  const double* p = pore_pressure_ ? pts.data(*pore_pressure_) : nullptr;
+  const double* n = mixture_ ? pts.data(mixture_->porosity) : nullptr;
+  const double* p = mixture_ ? pts.data(mixture_->pore_pressure) : nullptr;
+  const double* q = mixture_ ? pts.data(mixture_->darcy_flux) : nullptr;
+  const double courant_limit = 0.5 * d.grid.min_cell_size() / dt;  // |q| / n below it
   const double max_speed = d.grid.min_cell_size() / dt;  // a cell per step
   // The fast path is one vectorisable pass: a count of points too fast (NaN
   // counts: every comparison with it is false) and sums that a NaN or an
@@ -42,13 +44,20 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt) const
         if (!std::isfinite(s[i * 6 + c])) return Failure{i, "stress", s[i * 6 + c], "not finite"};
       if (p && !std::isfinite(p[i])) return Failure{i, "pore_pressure", p[i], "not finite"};
       if (n && n[i] != 0 && !(n[i] > 0 && n[i] < 1)) return Failure{i, "porosity", n[i], "outside (0, 1)"};
+      if (q && n[i] > 0) {
+        double q2 = 0;
+        for (int a = 0; a < D; ++a) q2 += q[i * D + a] * q[i * D + a];
+        if (!(q2 <= courant_limit * courant_limit * n[i] * n[i]))
+          return Failure{i, "darcy_flux", std::sqrt(q2),
+                         "the pore liquid crosses more than half a cell in one step (q dt / (n h) > 0.5)"};
+      }
     }
     return std::nullopt;  // a sum overflowed on finite values: nothing wrong
   };
   std::vector<std::optional<Failure>> found(static_cast<std::size_t>(d.exec.threads()));
   d.exec.for_chunks(pts.size(), [&](int t, std::size_t b, std::size_t e) {
     const double limit = max_speed * max_speed;
-    std::size_t too_fast = 0, bad_porosity = 0;
+    std::size_t too_fast = 0, bad_porosity = 0;  // bad_porosity: or too fast a liquid
     double sum = 0;
     for (std::size_t i = b; i < e; ++i) {
       double speed2 = 0;
@@ -59,7 +68,11 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt) const
     if (p)
       for (std::size_t i = b; i < e; ++i) sum += p[i];
     if (n)
-      for (std::size_t i = b; i < e; ++i) bad_porosity += n[i] != 0 && !(n[i] > 0 && n[i] < 1);
+      for (std::size_t i = b; i < e; ++i) {
+        double q2 = 0;
+        for (int a = 0; a < D; ++a) q2 += q[i * D + a] * q[i * D + a];
+        bad_porosity += (n[i] != 0 && !(n[i] > 0 && n[i] < 1)) + (n[i] > 0 && !(q2 <= courant_limit * courant_limit * n[i] * n[i]));
+      }
     if (too_fast || bad_porosity || !std::isfinite(sum)) found[t] = first_failure(b, e);
   });
   for (const auto& f : found) {
