@@ -7,6 +7,15 @@
 #define EGL_NO_X11  // keep Xlib's macros (None, Bool, Status) out
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SUFFUSE_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(SUFFUSE_ASAN)
+#include <dlfcn.h>
+#include <link.h>
+#endif
 
 #include <vtkLogger.h>
 #include <vtkNew.h>
@@ -15,6 +24,7 @@
 
 #include <iostream>
 #include <sstream>
+#include <string_view>
 #include <suffuse/error.hpp>
 #include <utility>
 #include <vector>
@@ -174,7 +184,24 @@ class EglContext {
     if (context_ == EGL_NO_CONTEXT) return why = "eglCreateContext: " + egl_error(), close(), false;
     if (!eglMakeCurrent(display_, surface_, surface_, context_))
       return why = "eglMakeCurrent: " + egl_error(), close(), false;
+    keep_drivers_loaded();
     return true;
+  }
+  // Sanitized builds only (scripts/sanitize): Mesa unloads its DRI driver at
+  // eglTerminate, leaving blocks the driver never frees that LeakSanitizer
+  // then reports from an unknown module. Kept loaded, the driver names
+  // itself in the report and share/sanitizers/lsan.supp suppresses exactly it.
+  static void keep_drivers_loaded() {
+#if defined(__SANITIZE_ADDRESS__) || defined(SUFFUSE_ASAN)
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, std::size_t, void*) {
+          const std::string_view path = info->dlpi_name ? info->dlpi_name : "";
+          if (path.find("/dri/") != std::string_view::npos)
+            dlopen(info->dlpi_name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);  // a reference never closed
+          return 0;
+        },
+        nullptr);
+#endif
   }
   void close() {
     if (display_ == EGL_NO_DISPLAY) return;
@@ -182,6 +209,9 @@ class EglContext {
     if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
     if (surface_ != EGL_NO_SURFACE) eglDestroySurface(display_, surface_);
     eglTerminate(display_);
+    // The thread's EGL state too (Mesa's, allocated at the first EGL call):
+    // otherwise LeakSanitizer reports it once libglvnd has unloaded Mesa.
+    eglReleaseThread();
     display_ = EGL_NO_DISPLAY, surface_ = EGL_NO_SURFACE, context_ = EGL_NO_CONTEXT;
   }
   EGLDisplay display_ = EGL_NO_DISPLAY;

@@ -153,7 +153,10 @@ TEST(Gradation, KezdiRatioIsTheMaximumOverSplitsReadAsSkemptonAndBroganDo) {
   const Gradation gap =
       suffuse::read_gradation_file(suffuse::test::source_dir() / "share/gradations/dem_gap_graded.csv");
   for (const Gradation* g : {&broad, &gap}) {
-    const auto& kezdi = criterion(suffuse::assess_internal_stability(*g), "kezdi");
+    // The assessment is kept: criterion() returns a reference into it (a
+    // temporary here was read after its end, found by AddressSanitizer).
+    const suffuse::InternalStability assessed = suffuse::assess_internal_stability(*g);
+    const auto& kezdi = criterion(assessed, "kezdi");
     const double split = kezdi.at_passing, coarse_d15 = kezdi.also.at(0).second, fine_d85 = kezdi.also.at(1).second;
     // On the curve at 0.85 S + 15 and 0.85 S: a round-off check (1e-9), the
     // points are interpolated exactly.

@@ -129,7 +129,8 @@ TEST(Probes, FlowRateThroughTheBase) {
 TEST(Probes, BadProbesAreRefused) {
   auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
   auto message = [&](const nlohmann::json& probe) {
-    j["outputs"] = {probe};
+    // An array of one node: `= {probe}` is the node itself with clang.
+    j["outputs"] = nlohmann::json::array({probe});
     suffuse::Registry registry;
     try {
       suffuse::test::scene_from(j, registry);

@@ -121,7 +121,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Restart,
 class RestartRefused : public ::testing::Test {
  protected:
   void SetUp() override {
-    // One directory per test: ctest runs them in parallel.
+    // One directory per test: ctest runs the tests of this fixture in parallel.
     dir_ = fresh_dir(std::string("refused_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     j_ = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
     j_["time"]["end"] = 0.05;

@@ -117,7 +117,9 @@ std::vector<std::size_t> Simulation::load_checkpoint(const std::filesystem::path
   const char* end = bytes.data() + bytes.size() - sizeof stored;
   auto take = [&](double* out, std::size_t n, const std::string& what) {
     if (static_cast<std::size_t>(end - v) < n * sizeof(double)) throw Error(where + "too few values for " + what);
-    std::memcpy(out, v, n * sizeof(double));
+    // An empty field (a dry run's ledger) has no storage: memcpy from or to
+    // a null pointer is undefined even for no bytes (found by UBSan).
+    if (n > 0) std::memcpy(out, v, n * sizeof(double));
     v += n * sizeof(double);
   };
   const auto& fields = h.at("fields");

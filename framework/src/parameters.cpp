@@ -127,7 +127,8 @@ Parameters ParameterSchema::complete(std::map<std::string, ParamValue> values) c
   for (const auto& [name, value] : values) {
     const Param* p = find(name);
     if (!p) throw Error("parameter '" + name + "' is not declared by the schema");
-    const bool type_ok = [&] {
+    // value passed on: clang before 16 cannot capture a structured binding.
+    const bool type_ok = [p](const ParamValue& value) {
       switch (p->type) {
         case ParamType::Number: return std::holds_alternative<double>(value);
         case ParamType::Integer: return std::holds_alternative<long long>(value);
@@ -139,7 +140,7 @@ Parameters ParameterSchema::complete(std::map<std::string, ParamValue> values) c
         case ParamType::Table: return std::holds_alternative<std::vector<double>>(value);
       }
       return false;
-    }();
+    }(value);
     if (!type_ok) throw Error("parameter '" + name + "': expected " + p->expectation(3));
     if (p->type == ParamType::Number || p->type == ParamType::Integer) {
       const double v = p->type == ParamType::Number ? std::get<double>(value)
