@@ -244,6 +244,22 @@ void print_gradations(const suffuse::Scene& scene) {
   }
 }
 
+// A body whose erodible fines, all washed out, would leave a porosity no soil
+// skeleton has (sands stay below about 0.5, the loosest clays near 0.9):
+// fines content 0.99 in a soil of porosity 0.9 ends at 0.999.
+void warn_about_open_skeletons(const suffuse::Scene& scene, std::ostream& out) {
+  for (const suffuse::BodySpec& body : scene.bodies) {
+    if (!body.liquid || !scene.materials[body.material].erosion) continue;
+    const double n = body.porosity;
+    const double final_porosity = n + (1 - n) * (body.fines_content - body.ultimate_fines_content);
+    if (final_porosity > 0.9)
+      out << "warning: body '" << body.name << "': washing out its erodible fines (fines_content "
+          << body.fines_content << " - ultimate " << body.ultimate_fines_content << " of the solid) would leave "
+          << "porosity " << final_porosity << ", more open than any soil skeleton (above 0.9): check porosity and "
+          << "fines_content\n";
+  }
+}
+
 int cmd_validate(const fs::path& scene_file) {
   suffuse::Registry registry;
   suffuse::PluginLoader loader(registry);
@@ -255,6 +271,7 @@ int cmd_validate(const fs::path& scene_file) {
             << " material(s), " << scene.bodies.size() << " body(ies), " << scene.boundary_conditions.size()
             << " boundary condition(s), " << scene.outputs.size() << " output(s)\n";
   print_gradations(scene);
+  warn_about_open_skeletons(scene, std::cout);
   std::cout << "  run: " << sim.points().size() << " material points, dt = " << sim.dt() << " s ("
             << (scene.dt ? "fixed" : "automatic") << "), " << std::llround(std::ceil(scene.end_time / sim.dt() - 1e-9))
             << " steps to t = " << scene.end_time << " s\n";
@@ -372,6 +389,7 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
     }
     if (!scene.outputs.empty())
       std::cout << "  output: " << output.string() << " (run settings in " << scene.name << ".run.json)\n";
+    warn_about_open_skeletons(scene, std::cout);
     if (!command.restart.empty())
       std::cout << "  continuing the run saved in " << command.restart.string() << "\n";
   }
