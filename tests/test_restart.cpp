@@ -126,27 +126,25 @@ class RestartRefused : public ::testing::Test {
     j_ = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
     j_["time"]["end"] = 0.05;
     j_["outputs"] = nlohmann::json::array();
-    suffuse::Registry registry;
-    suffuse::Scene scene = suffuse::test::scene_from(j_, registry);
-    scene.name = "column";
-    suffuse::Simulation sim(scene, registry, 1);
-    suffuse::RunOptions options;
-    options.output_dir = dir_;
-    sim.run(options);
+    run_column(j_);
     checkpoint_ = dir_ / "column.checkpoint";
     ASSERT_TRUE(fs::exists(checkpoint_)) << "a checkpoint at the end by default";
   }
-  // The message of restarting scene `j` from `file`.
-  std::string restart_error(const nlohmann::json& j, const fs::path& file) {
+  // Runs scene `j` (named "column") into the test's directory, from `restart` if given.
+  suffuse::RunSummary run_column(const nlohmann::json& j, const fs::path& restart = {}) {
     suffuse::Registry registry;
     suffuse::Scene scene = suffuse::test::scene_from(j, registry);
     scene.name = "column";
     suffuse::Simulation sim(scene, registry, 1);
     suffuse::RunOptions options;
     options.output_dir = dir_;
-    options.restart = file;
+    options.restart = restart;
+    return sim.run(options);
+  }
+  // The message of restarting scene `j` from `file`.
+  std::string restart_error(const nlohmann::json& j, const fs::path& file) {
     try {
-      sim.run(options);
+      run_column(j, file);
     } catch (const suffuse::Error& e) {
       return e.what();
     }
@@ -188,15 +186,8 @@ TEST_F(RestartRefused, DamagedOrTruncatedOrNotACheckpoint) {
 TEST_F(RestartRefused, ALaterEndTimeExtendsTheRun) {
   auto j = j_;
   j["time"]["end"] = 0.1;
-  suffuse::Registry registry;
-  suffuse::Scene scene = suffuse::test::scene_from(j, registry);
-  scene.name = "column";
-  suffuse::Simulation sim(scene, registry, 1);
-  suffuse::RunOptions options;
-  options.output_dir = dir_;
-  options.restart = checkpoint_;
-  const suffuse::RunSummary s = sim.run(options);
-  EXPECT_DOUBLE_EQ(sim.time(), 0.1);
+  const suffuse::RunSummary s = run_column(j, checkpoint_);
+  EXPECT_DOUBLE_EQ(s.simulated_time, 0.1);
   ASSERT_TRUE(s.ledger);
   EXPECT_LT(s.ledger->fines_imbalance(), 1e-12);
   EXPECT_LT(s.ledger->liquid_imbalance(), 1e-12);

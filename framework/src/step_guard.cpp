@@ -9,17 +9,6 @@
 
 namespace suffuse::detail {
 
-namespace {
-
-struct Failure {
-  std::size_t point;
-  const char* field;
-  double value;
-  const char* problem;
-};
-
-}  // namespace
-
 void StepGuard::check(Domain& d, std::size_t step, double time, double dt) const {
   const int D = d.dim();
   const PointSet& pts = d.points;
@@ -54,7 +43,8 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt) const
     }
     return std::nullopt;  // a sum overflowed on finite values: nothing wrong
   };
-  std::vector<std::optional<Failure>> found(static_cast<std::size_t>(d.exec.threads()));
+  std::vector<std::optional<Failure>>& found = found_;  // per thread; sized once, no allocation per step
+  found.assign(static_cast<std::size_t>(d.exec.threads()), std::nullopt);
   d.exec.for_chunks(pts.size(), [&](int t, std::size_t b, std::size_t e) {
     const double limit = max_speed * max_speed;
     std::size_t too_fast = 0, bad_porosity = 0;  // bad_porosity: or too fast a liquid

@@ -8,6 +8,7 @@
 // body, position, field and value, and what to try.
 #include <cstddef>
 #include <optional>
+#include <vector>
 
 #include "domain.hpp"
 #include "suffuse/scene.hpp"
@@ -16,6 +17,12 @@ namespace suffuse::detail {
 
 class StepGuard {
  public:
+  struct Failure {
+    std::size_t point;
+    const char* field;
+    double value;
+    const char* problem;
+  };
   // The mixture's fields, absent in dry runs.
   struct MixtureIds {
     FieldId porosity, pore_pressure, darcy_flux;
@@ -28,6 +35,7 @@ class StepGuard {
  private:
   const Scene& scene_;
   std::optional<MixtureIds> mixture_;
+  mutable std::vector<std::optional<Failure>> found_;  // per thread, the first failing point
 };
 
 }  // namespace suffuse::detail
