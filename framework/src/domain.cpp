@@ -125,20 +125,30 @@ void Domain::locate_cells() {
 
 void Domain::update_kinematics(double dt) {
   const auto& f = points.core();
-  double* L = points.data(f.velocity_gradient);
-  if (!average_volumetric_rate_) {
+  if (!average_volumetric_rate_) {  // one pass: L, strain and volume
     auto kernel = dim() == 2 ? &velocity_gradient_kernel<2> : &velocity_gradient_kernel<3>;
     exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
-      kernel(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(), L,
-             points.data(f.strain), points.data(f.volume));
+      kernel(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(),
+             points.data(f.velocity_gradient), points.data(f.strain), points.data(f.volume));
     });
     return;
   }
+  update_velocity_gradient(dt);
+  auto integrate = dim() == 2 ? &strain_volume_kernel<2> : &strain_volume_kernel<3>;
+  exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
+    integrate(b, e, dt, points.data(f.velocity_gradient), points.data(f.strain), points.data(f.volume));
+  });
+}
+
+void Domain::update_velocity_gradient(double dt) {
+  const auto& f = points.core();
+  double* L = points.data(f.velocity_gradient);
   auto gradient = dim() == 2 ? &velocity_gradient_kernel<2, false> : &velocity_gradient_kernel<3, false>;
   exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
     gradient(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(), L, nullptr,
              nullptr);
   });
+  if (!average_volumetric_rate_) return;
   std::fill(cell_volume_.begin(), cell_volume_.end(), 0.0);
   std::fill(cell_rate_.begin(), cell_rate_.end(), 0.0);
   ScatterTargets targets;
@@ -149,10 +159,8 @@ void Domain::update_kinematics(double dt) {
     sum(b, e, point_cell_.data(), L, points.data(f.volume), out[0], out[1]);
   });
   auto replace = dim() == 2 ? &replace_volumetric_rate_kernel<2> : &replace_volumetric_rate_kernel<3>;
-  auto integrate = dim() == 2 ? &strain_volume_kernel<2> : &strain_volume_kernel<3>;
   exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
     replace(b, e, point_cell_.data(), cell_volume_.data(), cell_rate_.data(), L);
-    integrate(b, e, dt, L, points.data(f.strain), points.data(f.volume));
   });
 }
 

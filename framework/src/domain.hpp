@@ -54,6 +54,9 @@ class Domain {
   // (its trace averaged over each cell's points where the scene asks for
   // it), strain += sym(L) dt, volume *= det(I + L dt).
   void update_kinematics(double dt);
+  // Its first half: the velocity gradient only (quasi-static iterations
+  // try increments before one is accepted).
+  void update_velocity_gradient(double dt);
 
   GridGeometry grid;
   NodeState nodes;

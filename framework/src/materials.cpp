@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "suffuse/tensor.hpp"
+
 namespace suffuse::detail {
 
 Materials::Materials(const Scene& scene, const Registry& registry) {
@@ -19,6 +21,7 @@ std::vector<const Phase*> Materials::phases() const {
 }
 
 void Materials::add_fields(PointSet& points) {
+  const std::size_t first = points.field_count();
   for (const auto& material : phases_) {
     if (!material.phase().writes_eigenstrain() || eigenstrain_) continue;
     using K = FieldKind;
@@ -28,6 +31,23 @@ void Materials::add_fields(PointSet& points) {
         {"eigenstrain_increment", K::SymmetricTensor, "-", "the eigenstrain of the last step", false});
   }
   for (auto& material : phases_) material.add_fields(points);
+  state_fields_ = {points.core().stress};
+  for (FieldId id = first; id < points.field_count(); ++id) state_fields_.push_back(id);
+}
+
+void Materials::tangent(Domain& d, double dt, std::vector<double>& stiffness) const {
+  stiffness.resize(d.points.size() * 36);
+  for (const BodyPoints& body : d.bodies) {
+    const Phase& phase = phases_[body.material].phase();
+    d.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {
+      const PointRange range{body.range.begin + b, body.range.begin + e};
+      const std::span<double> D(stiffness.data() + range.begin * 36, range.size() * 36);
+      if (phase.tangent(StressBatch{d.points, range, dt, {}}, D)) return;
+      const double M = phase.p_wave_modulus(), nu = 0.3;
+      const double G = M * (1 - 2 * nu) / (2 * (1 - nu));
+      for (std::size_t k = 0; k < range.size(); ++k) tensor::isotropic_stiffness(M - 4 * G / 3, G, D.data() + k * 36);
+    });
+  }
 }
 
 void Materials::update_stress(Domain& d, double dt) const {

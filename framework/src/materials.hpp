@@ -26,10 +26,20 @@ class Materials {
   // the point's "eigenstrain" and hands it to the stress update.
   void update_stress(Domain& domain, double dt) const;
 
+  // Quasi-static runs. The fields the stress stage writes (the stress, each
+  // phase's state, the eigenstrain): an iteration starts from their values
+  // at the start of the step.
+  const std::vector<FieldId>& stress_state_fields() const { return state_fields_; }
+  // The tangent stiffness of every point, 36 per point (Phase::tangent), or
+  // the isotropic fallback of modulus p_wave_modulus() and Poisson's ratio
+  // 0.3 for a phase that gives none.
+  void tangent(Domain& domain, double dt, std::vector<double>& stiffness) const;
+
  private:
   std::vector<MaterialPhase> phases_;
   std::vector<std::string> names_;  // "phase/x of material 'm' (/materials/m)", for messages
   std::optional<FieldId> eigenstrain_, eigenstrain_increment_;
+  std::vector<FieldId> state_fields_;
 };
 
 }  // namespace suffuse::detail

@@ -52,6 +52,7 @@ class SaturatedMixture final : public MomentumBalance {
   // Nodal Darcy flux n_I (v_L - v_s)_I of this step (dim per node), shared
   // by the pressure rate and the transport.
   const std::vector<double>& nodal_darcy_flux() const { return node_darcy_; }
+  std::vector<double>& nodal_darcy_flux() { return node_darcy_; }  // written by quasi-static steps
   const Liquid& liquid(std::size_t index) const { return *liquids_[index]; }
   double grain_density(std::size_t material) const { return phases_[material]->density(); }
   const std::vector<std::unique_ptr<Liquid>>& liquids() const { return liquids_; }

@@ -8,8 +8,27 @@ namespace {
 ParameterSchema time_schema() {
   ParameterSchema s;
   s.number("end").with_unit("s").above(0).doc("Simulation end time");
+  s.choice("integration", {"explicit", "quasi_static"}).fallback(std::string("explicit")).doc(
+      "explicit: dynamics, steps bounded by the wave speeds (MUSL); quasi_static: a sequence of equilibria "
+      "(implicit u-p consolidation, no inertia), steps bounded by the erosion and consolidation "
+      "(docs/time-integration.md)");
   s.number("dt").with_unit("s").above(0).may_be_absent().doc(
-      "Fixed time step; absent: automatic, cfl * h / max wave speed");
+      "Explicit: a fixed time step (absent: automatic, cfl * h / max wave speed). Quasi-static: the first step "
+      "(required), after which steps adapt up to max_dt");
+  s.number("max_dt").with_unit("s").above(0).may_be_absent().doc(
+      "Quasi-static only: the largest step (absent: dt, a fixed step unless the erosion tolerance cuts it)");
+  s.number("growth").with_unit("-").at_least(1).fallback(1.5).doc(
+      "Quasi-static only: a step is at most this factor times the previous one");
+  s.number("eroded_fraction_tolerance").with_unit("-").above(0).at_most(1).fallback(0.02).doc(
+      "Quasi-static only: the largest change of any point's eroded fraction over one step; a step that erodes "
+      "more makes the next one shorter in proportion");
+  s.number("transport_courant").with_unit("-").above(0).at_most(0.5).fallback(0.4).doc(
+      "Quasi-static only: Courant number q dt / (n h) of the erosion and transport substeps within a step");
+  s.number("newton_tolerance").with_unit("-").above(0).below(1).fallback(1e-8).doc(
+      "Quasi-static only: equilibrium is reached when the out-of-balance force is below this fraction of the "
+      "forces acting");
+  s.integer("max_iterations").at_least(1).fallback(25).doc(
+      "Quasi-static only: iterations per step before the step is halved and tried again");
   s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
       "Courant factor of the automatic time step");
   s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
@@ -27,6 +46,43 @@ ParameterSchema time_schema() {
   return s;
 }
 
+// The integration and the keys that belong to one of them only.
+void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
+  const bool quasi_static = t.has("integration") && t.string("integration") == "quasi_static";
+  const char* qs_keys[] = {"max_dt", "growth", "eroded_fraction_tolerance", "transport_courant", "newton_tolerance",
+                           "max_iterations"};
+  if (!quasi_static) {
+    for (const char* key : qs_keys)
+      if (r.root["time"].contains(key))
+        r.error(std::string("/time/") + key, "a quasi-static step control in an explicit run",
+                "\"integration\": \"quasi_static\" or no " + std::string(key), "integration explicit", "core (time)");
+    return;
+  }
+  scene.integration = TimeIntegration::quasi_static;
+  QuasiStaticControls& q = scene.quasi_static;
+  if (!t.has("dt"))
+    r.error("/time/dt", "no first step for a quasi-static run", "a time step in s (e.g. a hundredth of /time/end)",
+            "none", "core (time)");
+  if (t.has("max_dt")) q.max_dt = t.number("max_dt");
+  if (t.has("dt") && t.has("max_dt") && q.max_dt < t.number("dt"))
+    r.error("/time/max_dt", "a largest step below the first", "max_dt >= dt = " + format(t.number("dt")),
+            format(q.max_dt), "core (time)");
+  if (t.has("growth")) q.growth = t.number("growth");
+  if (t.has("eroded_fraction_tolerance")) q.eroded_fraction_tolerance = t.number("eroded_fraction_tolerance");
+  if (t.has("transport_courant")) q.transport_courant = t.number("transport_courant");
+  if (t.has("newton_tolerance")) q.newton_tolerance = t.number("newton_tolerance");
+  if (t.has("max_iterations")) q.max_iterations = static_cast<int>(t.integer("max_iterations"));
+  // What only dynamics has would be silently ignored: refused instead.
+  for (const char* key : {"cfl", "mass_scaling", "dt_above_stable"})
+    if (r.root["time"].contains(key))
+      r.error(std::string("/time/") + key, "a control of explicit dynamics in a quasi-static run",
+              "no " + std::string(key) + " (a quasi-static run has no inertia and no stability limit)", "present",
+              "core (time)");
+  if (scene.damping != 0)
+    r.error("/damping", "damping in a quasi-static run", "no damping (a quasi-static run has no inertia to damp)",
+            format(scene.damping), "core (time)");
+}
+
 void read_time(SceneReader& r, Scene& scene) {
   if (!r.require("time")) return;
   Parameters t = validate_object(r.root["time"], time_schema(), "/time", "core (time)",
@@ -38,6 +94,7 @@ void read_time(SceneReader& r, Scene& scene) {
   scene.checkpoint_interval = t.maybe_number("checkpoint_interval");
   if (t.has("dt_above_stable")) scene.dt_above_stable = t.boolean("dt_above_stable");
   if (t.has("checkpoint_at_end")) scene.checkpoint_at_end = t.boolean("checkpoint_at_end");
+  read_integration(r, t, scene);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "scene_reader.hpp"
 #include "step_guard.hpp"
 #include "materials.hpp"
+#include "quasi_static.hpp"
 #include "reactions.hpp"
 #include "saturated_mixture.hpp"
 #include "species_transport.hpp"
@@ -20,9 +21,9 @@
 namespace suffuse {
 
 const char* stage_name(Stage stage) {
-  static const char* names[stage_count] = {"shape", "p2g",          "grid",         "g2p",
-                                           "remap", "strain",       "pore_pressure", "erosion",
-                                           "permeability", "stress", "transport",    "check", "output"};
+  static const char* names[stage_count] = {"shape",     "p2g",   "grid",   "g2p",          "remap",
+                                           "strain",    "pore_pressure",   "erosion", "permeability",
+                                           "stress",    "transport",       "check",   "output", "solve"};
   return names[static_cast<std::size_t>(stage)];
 }
 
@@ -44,6 +45,13 @@ void SimulationClock::restore(const State& s) {
   origin_ = s.origin;
   steps_ = s.steps;
   since_origin_ = s.since_origin;
+  dt_ = std::min(nominal_, end_ - time_);
+}
+
+void SimulationClock::set_step(double dt) {
+  nominal_ = dt;
+  origin_ = time_;
+  since_origin_ = 0;
   dt_ = std::min(nominal_, end_ - time_);
 }
 
@@ -83,6 +91,11 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   grid_projection_ = std::make_unique<detail::GridProjection>(mixture_ ? &mixture_->fields() : nullptr);
   create_bodies();
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
+  if (scene.integration == TimeIntegration::quasi_static) {
+    quasi_static_ = std::make_unique<detail::QuasiStatic>(scene_, *domain_, *materials_, mixture_.get(), bcs_);
+    clock_ = SimulationClock(*scene.dt);  // validation requires it
+    return;
+  }
   clock_ = SimulationClock(scene.dt ? *scene.dt : critical_time_step());
   check_time_step();
 }
@@ -186,9 +199,16 @@ void Simulation::constrain_velocity_recording_reactions(double time, double dt) 
     reactions_->constrain(b, *bcs_[b], domain_->grid, domain_->nodes, time, dt);
 }
 
+void Simulation::step() {
+  if (quasi_static_)
+    step_quasi_static();
+  else
+    step_explicit();
+}
+
 // The MUSL step. Every stage is one call; the parts hold what differs
 // between dry and saturated runs.
-void Simulation::step() {
+void Simulation::step_explicit() {
   const double t = clock_.time(), dt = clock_.dt();
   const std::size_t n = clock_.steps();
   detail::Domain& d = *domain_;
@@ -213,8 +233,57 @@ void Simulation::step() {
   }
   timed(Stage::stress, [&] { materials_->update_stress(d, dt); });  // (effective) stress, phase state
   if (species_) timed(Stage::transport, [&] { species_->transport(dt); });  // liquid and fines cross the grid
-  timed(Stage::check, [&] { guard_->check(d, n + 1, t + dt, dt); });  // a state, not a blow-up
+  timed(Stage::check, [&] { guard_->check(d, n + 1, t + dt, dt, dt); });  // a state, not a blow-up
   clock_.advance();
+}
+
+// The quasi-static step: the equilibrium at t + dt, then erosion and
+// transport in substeps short enough for the transport, with the Darcy flux
+// of that equilibrium. The skeleton responds to this step's erosion in the
+// next step's equilibrium.
+void Simulation::step_quasi_static() {
+  const double t = clock_.time();
+  const std::size_t n = clock_.steps();
+  detail::Domain& d = *domain_;
+  const QuasiStaticControls& control = scene_.quasi_static;
+  timed(Stage::shape, [&] { d.locate_points(n, t); });
+  double dt = clock_.dt();
+  for (;;) {  // halved until the equilibrium converges
+    std::optional<int> iterations;
+    timed(Stage::solve, [&] { iterations = quasi_static_->solve(t, dt); });
+    if (iterations) break;
+    if (dt < 1e-6 * *scene_.dt)
+      throw Error("step " + std::to_string(n + 1) + " (t = " + detail::format(t) +
+                  " s): no equilibrium within /time/max_iterations = " + std::to_string(control.max_iterations) +
+                  " iterations, even after halving the step to " + detail::format(dt) +
+                  " s: the soil may be failing (a collapse has no quasi-static path; run it explicit)");
+    dt /= 2;
+    clock_.set_step(dt);
+  }
+  timed(Stage::g2p, [&] { quasi_static_->update_points(dt); });  // positions, strain, porosity, p, Darcy flux
+  double transport_dt = dt;
+  if (species_) {
+    const double rate = quasi_static_->transport_rate();
+    const auto substeps = static_cast<int>(std::max(1.0, std::ceil(dt * rate / control.transport_courant)));
+    transport_dt = dt / substeps;
+    species_->start_step();
+    for (int k = 0; k < substeps; ++k) {
+      timed(Stage::erosion, [&] { species_->erode(transport_dt); });
+      timed(Stage::transport, [&] { species_->transport(transport_dt); });
+    }
+    species_->finish_step();
+  }
+  if (mixture_) timed(Stage::permeability, [&] { mixture_->update_permeability(); });
+  timed(Stage::check, [&] { guard_->check(d, n + 1, t + dt, dt, transport_dt); });
+  clock_.advance();
+  // The next step: grown, unless this one eroded more than the tolerance.
+  double next = std::min(control.max_dt > 0 ? control.max_dt : *scene_.dt, control.growth * clock_.nominal_dt());
+  if (species_) {
+    const double eroded = species_->largest_eroded_fraction_increment();
+    if (eroded > 0) next = std::min(next, dt * control.eroded_fraction_tolerance / eroded);
+  }
+  if (getenv("QSDEBUG")) fprintf(stderr, "step %zu t %g dt %g next %g eroded %g\n", n, t, dt, next, species_ ? species_->largest_eroded_fraction_increment() : 0.0);
+  clock_.set_step(next);
 }
 
 int Simulation::threads() const { return domain_->exec.threads(); }

@@ -289,6 +289,34 @@ void SpeciesTransport::transport(double dt) {
   });
 }
 
+void SpeciesTransport::start_step() {
+  if (!fines_) return;
+  const PointSet& pts = d_.points;
+  const auto fc = pts.values(fines_->fines_content), fer = pts.values(fines_->eroded_fraction);
+  step_fines_content_.assign(fc.begin(), fc.end());
+  step_eroded_fraction_.assign(fer.begin(), fer.end());
+}
+
+void SpeciesTransport::finish_step() {
+  if (!fines_) return;
+  PointSet& pts = d_.points;
+  const double* fc = pts.data(fines_->fines_content);
+  const double* fer = pts.data(fines_->eroded_fraction);
+  double* dfc = pts.data(fines_->fines_content_increment);
+  double* dfer = pts.data(fines_->eroded_fraction_increment);
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    dfc[p] = fc[p] - step_fines_content_[p];
+    dfer[p] = fer[p] - step_eroded_fraction_[p];
+  }
+}
+
+double SpeciesTransport::largest_eroded_fraction_increment() const {
+  if (!fines_) return 0;
+  double worst = 0;
+  for (const double d : d_.points.values(fines_->eroded_fraction_increment)) worst = std::max(worst, std::abs(d));
+  return worst;
+}
+
 void SpeciesTransport::add_to_totals(const std::vector<std::array<double, 4>>& step) {
   // The totals grow large and a step's share stays small: Kahan summation
   // carries the low-order bits a plain addition drops.

@@ -44,6 +44,13 @@ class SpeciesTransport {
   // Stage "transport": liquid and suspended fines across the grid.
   void transport(double dt);
 
+  // Quasi-static steps run erosion and transport in substeps: the fines
+  // content and eroded fraction increments then span the whole step.
+  void start_step();
+  void finish_step();
+  // The largest |increment of the eroded fraction| of a point over the last step.
+  double largest_eroded_fraction_increment() const;
+
   MassLedger mass_ledger(double time) const;
   // One CSV row of the ledger (with the header first if asked).
   void write_ledger_row(std::ostream& out, double time, bool header) const;
@@ -73,6 +80,7 @@ class SpeciesTransport {
   std::vector<std::unique_ptr<ErosionLaw>> erosion_;  // per material, may be null
   std::optional<FinesFields> fines_;                  // runs that track fines
   std::vector<double> flux_magnitude_;                // per point, scratch of the erosion stage
+  std::vector<double> step_fines_content_, step_eroded_fraction_;  // at the start of a quasi-static step
 
   std::vector<Opening> openings_;
   std::vector<double> inflow_liquid_, inflow_fines_;  // per node and axis: what enters per volume, NaN: no inlet

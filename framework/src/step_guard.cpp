@@ -9,7 +9,7 @@
 
 namespace suffuse::detail {
 
-void StepGuard::check(Domain& d, std::size_t step, double time, double dt) const {
+void StepGuard::check(Domain& d, std::size_t step, double time, double dt, double transport_dt) const {
   const int D = d.dim();
   const PointSet& pts = d.points;
   const double* v = pts.data(pts.core().velocity);
@@ -17,7 +17,7 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt) const
   const double* n = mixture_ ? pts.data(mixture_->porosity) : nullptr;
   const double* p = mixture_ ? pts.data(mixture_->pore_pressure) : nullptr;
   const double* q = mixture_ ? pts.data(mixture_->darcy_flux) : nullptr;
-  const double courant_limit = 0.5 * d.grid.min_cell_size() / dt;  // |q| / n below it
+  const double courant_limit = 0.5 * d.grid.min_cell_size() / transport_dt;  // |q| / n below it
   const double max_speed = d.grid.min_cell_size() / dt;  // a cell per step
   // The fast path is one vectorisable pass: a count of points too fast (NaN
   // counts: every comparison with it is false) and sums that a NaN or an

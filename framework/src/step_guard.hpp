@@ -30,7 +30,8 @@ class StepGuard {
   StepGuard(const Scene& scene, std::optional<MixtureIds> mixture) : scene_(scene), mixture_(mixture) {}
   // Throws suffuse::Error describing the first failing point of the step
   // that ended at `time` (step number `step`, size `dt`).
-  void check(Domain& d, std::size_t step, double time, double dt) const;
+  // `transport_dt`: the step of the transport (dt, or a quasi-static step's substep).
+  void check(Domain& d, std::size_t step, double time, double dt, double transport_dt) const;
 
  private:
   const Scene& scene_;

@@ -134,6 +134,20 @@ class Phase {
     (void)batch; (void)increment;
   }
 
+  // Optional, for quasi-static runs (docs/time-integration.md): the tangent
+  // stiffness of each point of the batch in its current state, 36 per point
+  // (point p at (p - range.begin) * 36): 6x6 row-major, Voigt order, acting on
+  // engineering strain increments (tensor::isotropic_stiffness builds the
+  // elastic one). The implicit solve iterates on the true stresses, so an
+  // elastic stiffness is enough to converge (a modified Newton method); a
+  // consistent tangent converges in fewer iterations. Return false to let
+  // the core use an isotropic stiffness of modulus p_wave_modulus() and
+  // Poisson's ratio 0.3.
+  virtual bool tangent(const StressBatch& batch, std::span<double> stiffness) const {
+    (void)batch; (void)stiffness;
+    return false;
+  }
+
   // Advance the stress (and the phase's own state) of the batch over dt.
   // Called from several threads at once on disjoint batches: write only the
   // batch's points, keep no mutable member state.

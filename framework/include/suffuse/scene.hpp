@@ -74,6 +74,21 @@ struct ReactionSpec {
 // gradient, or as the volume-weighted mean over the points of its cell.
 enum class VolumetricStrain { point, cell_average };
 
+// How time is integrated (docs/time-integration.md): explicit dynamics
+// (MUSL, steps bounded by the wave speeds), or a sequence of equilibria
+// (implicit u-p consolidation, steps bounded by the slow processes).
+enum class TimeIntegration { explicit_dynamics, quasi_static };
+
+// The step control of a quasi-static run (/time).
+struct QuasiStaticControls {
+  double max_dt = 0;                     // [s] the largest step; 0: the first step's
+  double growth = 1.5;                   // a step is at most this times the previous one
+  double eroded_fraction_tolerance = 0.02;  // largest change of the eroded fraction of a point per step
+  double transport_courant = 0.4;        // q dt_sub / (n h) of the transport substeps
+  double newton_tolerance = 1e-8;        // relative residual of the equilibrium
+  int max_iterations = 25;               // per step, before the step is halved
+};
+
 struct Scene {
   std::filesystem::path file;
   std::string name;  // file stem, names output series
@@ -91,8 +106,10 @@ struct Scene {
   double damping = 0;  // local non-viscous damping coefficient
   VolumetricStrain volumetric_strain = VolumetricStrain::point;
   double end_time = 0;
-  std::optional<double> dt;  // absent: automatic from the CFL condition
+  std::optional<double> dt;  // absent: automatic from the CFL condition (explicit); quasi-static: the first step
   double cfl = 0.5;
+  TimeIntegration integration = TimeIntegration::explicit_dynamics;
+  QuasiStaticControls quasi_static;
   double mass_scaling = 1;  // inertia factor for quasi-static runs
   bool dt_above_stable = false;  // a fixed dt above the stable one is accepted
   std::optional<double> checkpoint_interval;  // [s]; absent: no checkpoints during the run

@@ -38,13 +38,16 @@ class SaturatedMixture;
 class SpeciesTransport;
 class GridProjection;
 class StepGuard;
+class QuasiStatic;
 }  // namespace detail
 
 // The stages of a step, in order, and the writing of outputs.
+// Quasi-static steps add "solve" (the implicit u-p equilibrium, stresses
+// included) and reuse shape, g2p, erosion, transport, permeability, check.
 enum class Stage {
-  shape, p2g, grid, g2p, remap, strain, pore_pressure, erosion, permeability, stress, transport, check, output
+  shape, p2g, grid, g2p, remap, strain, pore_pressure, erosion, permeability, stress, transport, check, output, solve
 };
-inline constexpr std::size_t stage_count = 13;
+inline constexpr std::size_t stage_count = 14;
 const char* stage_name(Stage stage);
 
 // Wall time spent in each stage, for the run summary [s].
@@ -110,6 +113,8 @@ class SimulationClock {
   };
   State state() const { return {nominal_, time_, origin_, steps_, since_origin_}; }
   void restore(const State& s);
+  // The next steps last dt (quasi-static runs adapt it): counted from now.
+  void set_step(double dt);
 
  private:
   double eps() const { return 1e-9 * nominal_; }
@@ -129,7 +134,9 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // One explicit MUSL step of size dt().
+  // One step of size dt(): explicit (MUSL), or quasi-static (an implicit
+  // equilibrium; the step may be halved until it converges, and the next
+  // one adapts to the erosion).
   void step();
   // Steps until the end time, writing outputs; returns what it measured.
   RunSummary run(const RunOptions& options);
@@ -159,6 +166,8 @@ class Simulation {
  private:
   template <class Work>
   void timed(Stage stage, Work&& work);
+  void step_explicit();
+  void step_quasi_static();
   void create_bodies();
   void set_geostatic_stress(const BodySpec& body, std::size_t begin, std::size_t end);
   void apply_loads(double time);  // boundary conditions' external forces
@@ -184,6 +193,7 @@ class Simulation {
   std::vector<std::unique_ptr<Writer>> writers_;
   std::unique_ptr<detail::GridProjection> grid_projection_;  // for writers of grid fields
   std::unique_ptr<detail::StepGuard> guard_;                 // stops a run that blew up
+  std::unique_ptr<detail::QuasiStatic> quasi_static_;        // quasi-static runs
   SimulationClock clock_{0};
   StageTimes times_;
 };

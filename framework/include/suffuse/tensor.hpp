@@ -83,6 +83,19 @@ inline Matrix jaumann_elastic_increment(const Matrix& s, const Matrix& d, const 
 
 // Soil mechanics, compression positive.
 // Mean stress p = -tr sigma / 3 (of the effective stress: p').
+// Isotropic elastic stiffness of bulk modulus K and shear modulus G, 6x6
+// row-major in Voigt order (xx, yy, zz, yz, xz, xy), acting on engineering
+// strains (shear components 2 eps_ij): the form Phase::tangent() returns.
+inline void isotropic_stiffness(double K, double G, double* D) {
+  const double lambda = K - 2 * G / 3;
+  for (int i = 0; i < 36; ++i) D[i] = 0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) D[i * 6 + j] = lambda;
+    D[i * 6 + i] += 2 * G;
+    D[(i + 3) * 6 + i + 3] = G;
+  }
+}
+
 inline double mean_stress(const double* sigma) { return -trace(sigma) / 3; }
 // Deviatoric stress q = sqrt(3 J2).
 inline double deviatoric_stress(const double* sigma) { return std::sqrt(3 * second_deviatoric_invariant(sigma)); }

@@ -28,6 +28,13 @@ class LinearElastic final : public suffuse::Phase {
   double density() const override { return rho_; }
   double p_wave_modulus() const override { return lambda_ + 2 * G_; }
 
+  // The exact tangent: Hooke's law (the stress update adds only the Jaumann
+  // rotation, which a quasi-static step leaves to the iterations).
+  bool tangent(const suffuse::StressBatch& batch, std::span<double> stiffness) const override {
+    for (std::size_t k = 0; k < batch.range.size(); ++k)
+      suffuse::tensor::isotropic_stiffness(lambda_ + 2 * G_ / 3, G_, stiffness.data() + k * 36);
+    return true;
+  }
   void update_stress(const suffuse::StressBatch& batch) const override {
     if (batch.points.dim() == 2)
       update<2>(batch);

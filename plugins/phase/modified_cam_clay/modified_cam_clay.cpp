@@ -120,6 +120,19 @@ class ModifiedCamClay final : public suffuse::Phase {
     }
   }
 
+  // The elastic stiffness of the current state, K = v p' / kappa (at least
+  // at the minimum mean stress): the quasi-static iterations converge on the
+  // returned stresses (a modified Newton method).
+  bool tangent(const suffuse::StressBatch& b, std::span<double> stiffness) const override {
+    const double* stress = b.points.data(b.points.core().stress);
+    const double* e = b.points.data(e_);
+    for (std::size_t i = b.range.begin; i < b.range.end; ++i) {
+      const double p = std::max(p_min_, suffuse::tensor::mean_stress(stress + i * 6));
+      const double K = (1 + e[i]) * p / kappa_;
+      suffuse::tensor::isotropic_stiffness(K, shear(K), stiffness.data() + (i - b.range.begin) * 36);
+    }
+    return true;
+  }
   void update_stress(const suffuse::StressBatch& b) const override {
     if (b.points.dim() == 2)
       update<2>(b);

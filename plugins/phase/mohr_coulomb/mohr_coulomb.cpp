@@ -214,6 +214,14 @@ class MohrCoulomb final : public suffuse::Phase {
     yielding_ = points.add_field({"yielding", K::Scalar, "-", "1 where the last step was plastic, else 0", true});
   }
 
+  // The elastic stiffness: the quasi-static iterations then converge on the
+  // returned stresses (the initial-stiffness method, robust at the perfectly
+  // plastic limit where a consistent tangent turns singular).
+  bool tangent(const suffuse::StressBatch& batch, std::span<double> stiffness) const override {
+    for (std::size_t k = 0; k < batch.range.size(); ++k)
+      suffuse::tensor::isotropic_stiffness(lambda_ + 2 * G_ / 3, G_, stiffness.data() + k * 36);
+    return true;
+  }
   void update_stress(const suffuse::StressBatch& batch) const override {
     if (batch.points.dim() == 2)
       update<2>(batch);

@@ -176,6 +176,10 @@ class Suffosion final : public suffuse::Phase {
     }
   }
 
+  // The base's: the erosion-induced strain is imposed, not a stiffness.
+  bool tangent(const suffuse::StressBatch& b, std::span<double> stiffness) const override {
+    return base_->tangent(b, stiffness);
+  }
   void update_stress(const suffuse::StressBatch& b) const override {
     base_->update_stress(b);
     if (!e_) return;

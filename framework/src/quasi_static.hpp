@@ -1,0 +1,87 @@
+#pragma once
+// Quasi-static integration of a step (docs/time-integration.md): the mixture
+// in equilibrium at the end of the step, with the pore liquid's mass balance
+// over the step (backward Euler), solved on the grid for the nodal
+// displacement increments du and pore pressures p (the u-p formulation of
+// consolidation, equal-order shape functions, integrated at the points):
+//
+//   [ K   -Q ] [du]   [ f_ext + f_gravity - f_int(sigma') + Q p ]
+//   [ -Q' -C ] [dp] = [ -(b - Q' du - C p)                       ]
+//
+// K = sum V B' D B (the phases' tangents), Q = sum V grad N N (the pressure's
+// force and the skeleton's volume change), C = S + dt H (storage n / K_L and
+// Darcy flow K / gamma_w), b the old pressures' storage, gravity's flow and
+// the inflow. The matrix is symmetric quasi-definite, so a sparse LDL'
+// factorisation exists for any ordering (Vanderbei 1995): Eigen's
+// SimplicialLDLT with AMD ordering. The stresses come from the phases'
+// own updates, from the state at the start of the step, in every iteration:
+// the tangent only steers the iterations (modified Newton), the equilibrium
+// is that of the true stresses.
+//
+// Boundary conditions are read from the plugins' own effects on the nodes:
+// a velocity constraint fixes du = v dt; a face a condition opens to the
+// liquid fixes p there (bc/pore_pressure, the pressure read from its force
+// -p n A) or brings the flux it constrains (bc/inflow_flux); grid faces
+// closed to the liquid are impermeable; a free surface (a node next to a
+// cell without saturated points) is drained, p = 0, as in explicit runs.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "domain.hpp"
+#include "materials.hpp"
+#include "saturated_mixture.hpp"
+#include "suffuse/boundary_condition.hpp"
+
+namespace suffuse::detail {
+
+class QuasiStatic {
+ public:
+  QuasiStatic(const Scene& scene, Domain& domain, const Materials& materials, SaturatedMixture* mixture,
+              const std::vector<std::unique_ptr<BoundaryCondition>>& bcs);
+  ~QuasiStatic();
+
+  // Stage "solve": the equilibrium at time + dt. Returns the iterations it
+  // took, or nothing if it did not converge within the scene's
+  // max_iterations; the stresses and the phases' state are then as at the
+  // start of the step.
+  std::optional<int> solve(double time, double dt);
+  // Stage "g2p", after a converged solve: points move by the solved
+  // increments; strain, volume, porosity, pore pressure and Darcy flux
+  // follow (the nodal Darcy flux too, for the transport).
+  void update_points(double dt);
+  // The largest sum over the axes of |q_i| / (n h_i) at the points [1/s]:
+  // a transport substep of Courant number C lasts C over it.
+  double transport_rate() const;
+
+ private:
+  struct Linear;  // the sparse system and its factorisation
+  void prepare(double time, double dt);  // degrees of freedom, constraints, loads of the step
+  void save_state();
+  void restore_state();
+  double evaluate(double dt);  // stresses from du, p; the residual; returns the norm of the forces'
+  void assemble(double dt);  // the matrix, from the tangents at the start of the step
+
+  const Scene& scene_;
+  Domain& d_;
+  const Materials& materials_;
+  SaturatedMixture* mixture_;  // null in dry runs
+  const std::vector<std::unique_ptr<BoundaryCondition>>& bcs_;
+  std::unique_ptr<Linear> linear_;
+
+  std::vector<std::vector<double>> saved_;  // the stress state at the start of the step
+  std::vector<double> tangent_;             // 36 per point
+  NodeState probe_;                         // what the boundary conditions do to the nodes
+  std::vector<std::int64_t> u_dof_, p_dof_;  // per node component / node: equation, or -1 (none or fixed)
+  std::vector<double> du_, p_;               // the step's nodal unknowns, fixed values included
+  std::vector<double> f_ext_, b_p_;          // loads: mixture forces; pressure equations' right-hand side
+  std::vector<double> node_mass_, node_pore_, node_volume_;
+  std::vector<double> residual_;             // per equation
+  std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual
+  std::vector<double> point_pressure_;       // p interpolated at the points (saturated ones)
+  std::vector<int> cell_count_;              // saturated points per cell
+  double force_scale_ = 0;
+  std::size_t equations_ = 0;
+};
+
+}  // namespace suffuse::detail
