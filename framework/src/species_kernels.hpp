@@ -35,7 +35,28 @@ struct SpeciesPoints {
   const double* volume;
   double* porosity;
   const double* grain_density;  // rho_s
+  // The part of liquid_mass that carries the suspension (its fines included),
+  // may be null: eroded fines join it, deposited ones leave it.
+  double* carrying_liquid = nullptr;
 };
+
+// The pore liquid of a point as the transport leaves it: a carrying part
+// (fines and the water that took them up) and clean water, mixed only where
+// the transport has smeared a suspension front over a few cells. In volume:
+// `share`, the carrying part's fraction of the pore liquid, and
+// `concentration`, the carrying part's own c. Where all the liquid carries
+// (share 1) the concentration is suspended_concentration's, bit for bit.
+struct CarrierState {
+  double share, concentration;
+};
+inline CarrierState carrier_state(double fines, double carrying, double liquid, double rho_s, double rho_w) {
+  const double v_fines = fines / rho_s;
+  const double v_carrying = v_fines + std::max(0.0, carrying - fines) / rho_w;
+  const double v_liquid = v_fines + std::max(0.0, liquid - fines) / rho_w;
+  if (carrying >= liquid) return {1.0, suspended_concentration(fines, liquid, rho_s, rho_w)};
+  return {v_liquid > 0 ? std::min(1.0, v_carrying / v_liquid) : 0.0,
+          suspended_concentration(fines, carrying, rho_s, rho_w)};
+}
 
 // Applies the rates n_e [1/s] of a law to points [begin, end): moves
 // rho_s n_e V dt from skeleton to liquid, limited so that f_c >= f_c_inf and
@@ -57,6 +78,7 @@ inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const S
     pt.skeleton_fines[p] = fines - moved;
     pt.suspended_fines[p] += moved;
     pt.liquid_mass[p] += moved;
+    if (pt.carrying_liquid) pt.carrying_liquid[p] = std::max(0.0, pt.carrying_liquid[p] + moved);
     pt.eroded_mass[p] += moved;
     pt.porosity[p] += moved / (rho_s * V);
     rate[p] = moved / (rho_s * V * dt);
@@ -66,7 +88,8 @@ inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const S
 // Scatter: pore volume, liquid and suspended fines of the nodes.
 inline void p2g_species(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
                         const double* volume, const double* n, const double* liquid, const double* fines,
-                        double* node_pore, double* node_liquid, double* node_fines) {
+                        const double* carrying, double* node_pore, double* node_liquid, double* node_fines,
+                        double* node_carrying) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // a dry point holds no liquid
     const double pore = n[p] * volume[p];
@@ -76,6 +99,7 @@ inline void p2g_species(std::size_t begin, std::size_t end, int npp, const std::
       node_pore[I] += w[k] * pore;
       node_liquid[I] += w[k] * liquid[p];
       if (fines) node_fines[I] += w[k] * fines[p];
+      if (carrying) node_carrying[I] += w[k] * carrying[p];
     }
   }
 }
@@ -88,12 +112,14 @@ struct TransportGrid {
   const double* pore;         // sum N n V [m^3]
   const double* liquid;       // sum N m_L [kg]
   const double* fines;        // sum N m_f [kg], may be null
+  const double* carrying;     // sum N m_carrying [kg], the liquid carrying the suspension; null if fines is
   const double* darcy;        // D per node: the nodal Darcy flux n_I (v_L - v_s)_I, as the pressure uses it
   double* face;               // D per node: volume crossing the face to I + e_a this step (pass 0 fills it)
   // Per node and axis (node * D + axis): the liquid and fines per volume
   // entering through an open grid face at that node; NaN elsewhere.
   const double* inflow_liquid;
   const double* inflow_fines;
+  const double* inflow_carrying;
 };
 
 template <int D>
@@ -184,10 +210,12 @@ struct Transport {
   // the water crossing is never negative. A node sends at most a quarter of
   // its pore volume per step: with face values at most twice the node's,
   // neither amount can turn negative. Both nodes of a face compute the same
-  // bits.
+  // bits. The liquid carrying the suspension crosses as the fines do, with
+  // its own limited share of the liquid (a tracer: at a suspension front its
+  // share and the fines are smeared alike, see carrier_state).
   void face_transfer(std::int64_t I, int a, const std::array<int, 3>& c, const double* out, double& liquid,
-                     double& fines) const {
-    liquid = fines = 0;
+                     double& fines, double& carrying) const {
+    liquid = fines = carrying = 0;
     const double vol = face_volume(I, a, c);
     if (vol == 0) return;
     const bool forward = vol > 0;
@@ -197,44 +225,51 @@ struct Transport {
     const int up_index = forward ? c[a] : c[a] + 1;
     const bool has_far = forward ? up_index > 0 : up_index < g.nodes[a] - 1;
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    double far_liquid = nan, far_ratio = nan;
+    double far_liquid = nan, far_ratio = nan, far_carrying = nan;
     if (has_far) {
       const std::int64_t far = forward ? up - stride(a) : up + stride(a);
       if (g.pore[far] > 0) {
         far_liquid = g.liquid[far] / g.pore[far];
-        if (g.fines) far_ratio = ratio(far);
+        if (g.fines) far_ratio = ratio(g.fines, far), far_carrying = ratio(g.carrying, far);
       }
     } else if (!std::isnan(g.inflow_liquid[up * D + a])) {
       far_liquid = g.inflow_liquid[up * D + a];
       far_ratio = g.inflow_fines[up * D + a] / far_liquid;
+      far_carrying = g.inflow_carrying[up * D + a] / far_liquid;
     }
     const double value = limited(g.liquid[up] / g.pore[up], g.liquid[down] / g.pore[down], far_liquid);
     liquid = scale(up, out) * vol * value;
-    if (g.fines) fines = liquid * limited(ratio(up), ratio(down), far_ratio);
+    if (g.fines) {
+      fines = liquid * limited(ratio(g.fines, up), ratio(g.fines, down), far_ratio);
+      carrying = liquid * limited(ratio(g.carrying, up), ratio(g.carrying, down), far_carrying);
+    }
   }
-  double ratio(std::int64_t I) const { return g.liquid[I] > 0 ? g.fines[I] / g.liquid[I] : 0.0; }
+  // Share of a node's liquid an amount is (fines, carrying liquid).
+  double ratio(const double* amount, std::int64_t I) const { return g.liquid[I] > 0 ? amount[I] / g.liquid[I] : 0.0; }
 
-  // Pass 2: net change of liquid and fines at each node from its interior faces.
-  // Also writes what each node loses through free surfaces.
+  // Pass 2: net change of liquid, fines and carrying liquid at each node from
+  // its interior faces. Also writes what each node loses through free surfaces.
   void exchange(std::size_t begin, std::size_t end, const double* out, double* d_liquid, double* d_fines,
-                double* free_liquid, double* free_fines) const {
+                double* d_carrying, double* free_liquid, double* free_fines, double* free_carrying) const {
     for (std::size_t n = begin; n < end; ++n) {
       const auto I = static_cast<std::int64_t>(n);
       const auto c = ijk(I);
-      double dl = 0, df = 0;
+      double dl = 0, df = 0, dc = 0;
       for (int a = 0; a < D; ++a) {
-        double liquid, fines;
+        double liquid, fines, carrying;
         if (c[a] < g.nodes[a] - 1) {
-          face_transfer(I, a, c, out, liquid, fines);
+          face_transfer(I, a, c, out, liquid, fines, carrying);
           dl -= liquid;
           df -= fines;
+          dc -= carrying;
         }
         if (c[a] > 0) {
           auto below = c;
           --below[a];
-          face_transfer(I - stride(a), a, below, out, liquid, fines);
+          face_transfer(I - stride(a), a, below, out, liquid, fines, carrying);
           dl += liquid;
           df += fines;
+          dc += carrying;
         }
       }
       // Free-surface outflow: what the node sends out of the liquid region.
@@ -243,13 +278,16 @@ struct Transport {
         const double share = scale(I, out) * free / g.pore[I];
         free_liquid[n] = share * g.liquid[I];
         free_fines[n] = g.fines ? share * g.fines[I] : 0.0;
+        free_carrying[n] = g.fines ? share * g.carrying[I] : 0.0;
         dl -= free_liquid[n];
         df -= free_fines[n];
+        dc -= free_carrying[n];
       } else {
-        free_liquid[n] = free_fines[n] = 0;
+        free_liquid[n] = free_fines[n] = free_carrying[n] = 0;
       }
       d_liquid[n] = dl;
       d_fines[n] = df;
+      d_carrying[n] = dc;
     }
   }
 };

@@ -37,6 +37,8 @@ std::vector<FieldDeclaration<FinesFields>> SpeciesTransport::fines_fields_declar
        &F::eroded_fraction_increment},
       {{"erosion_rate", K::Scalar, "1/s", "n_e, eroded solid volume / volume / time", true}, &F::erosion_rate},
       {{"hydraulic_gradient", K::Scalar, "-", "|i| = |q| / K", true}, &F::hydraulic_gradient},
+      {{"carrying_liquid", K::Scalar, "kg", "pore liquid carrying the suspension, its fines included", false},
+       &F::carrying_liquid},
   };
 }
 
@@ -62,8 +64,8 @@ SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry,
   if (tracks_fines(scene, openings_of(bcs))) fines_ = register_fields(d_.points, fines_fields_declared());
   const std::size_t nn = d_.grid.node_count();
   node_face_.assign(nn * scene.dim, 0.0);
-  for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_out_, &node_dliquid_, &node_dfines_,
-                  &node_free_liquid_, &node_free_fines_})
+  for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_, &node_out_, &node_dliquid_,
+                  &node_dfines_, &node_dcarrying_, &node_free_liquid_, &node_free_fines_, &node_free_carrying_})
     v->assign(nn, 0.0);
   setup_openings(scene, mixture, bcs);
 }
@@ -76,7 +78,10 @@ void SpeciesTransport::initialise(const BodySpec& body, const BodyPoints& b) {
   const double* ms = pts.data(pts.core().mass);
   const double* n = pts.data(m_.porosity);
   const double* rho_s = pts.data(m_.grain_density);
+  const double* ml = pts.data(m_.liquid_mass);
   for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
+    // A body's initial liquid carries fines (all of it) or none.
+    pts.data(f.carrying_liquid)[p] = body.concentration > 0 ? ml[p] : 0.0;
     pts.data(f.skeleton_fines)[p] = body.fines_content * ms[p];
     pts.data(f.suspended_fines)[p] = body.concentration * rho_s[p] * n[p] * V[p];
     pts.data(f.fines_content)[p] = body.fines_content;
@@ -90,7 +95,8 @@ void SpeciesTransport::start_ledger() {
   initial_solid_ = start.solid;
   initial_liquid_ = start.liquid;
   initial_fines_ = start.skeleton_fines + start.suspended_fines;
-  flux_magnitude_.assign(d_.points.size(), 0.0);
+  for (auto* v : {&flux_magnitude_, &carrier_share_, &carrier_concentration_, &clean_concentration_, &clean_rate_})
+    v->assign(d_.points.size(), 0.0);
 }
 
 void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture& mixture,
@@ -102,6 +108,7 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
   const int dim = d_.dim();
   inflow_liquid_.assign(d_.grid.node_count() * dim, std::numeric_limits<double>::quiet_NaN());
   inflow_fines_ = inflow_liquid_;
+  inflow_carrying_ = inflow_liquid_;
   std::vector<std::string> opened_by;  // the JSON pointer of each opening's condition
   for (std::size_t b = 0; b < bcs.size(); ++b) {
     for (const LiquidOpening& o : bcs[b]->liquid_openings()) {
@@ -118,6 +125,7 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
         const std::size_t k = static_cast<std::size_t>(I) * dim + o.face.axis;
         inflow_liquid_[k] = suspension_density(o.concentration, rho_s, rho_w);
         inflow_fines_[k] = o.concentration * rho_s;
+        inflow_carrying_[k] = o.concentration > 0 ? inflow_liquid_[k] : 0.0;  // carries fines, or clean
       }
       discharge_.push_back({grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)], 0, 0, 0, 0});
       openings_.push_back(std::move(opening));
@@ -136,7 +144,7 @@ void SpeciesTransport::erode(double dt) {
   const int dim = d_.dim();
   const SpeciesPoints pt{pts.data(pts.core().mass),     pts.data(f.skeleton_fines), pts.data(f.suspended_fines),
                          pts.data(m_.liquid_mass),      pts.data(f.eroded_mass),    pts.data(pts.core().volume),
-                         pts.data(m_.porosity),         pts.data(m_.grain_density)};
+                         pts.data(m_.porosity),         pts.data(m_.grain_density), pts.data(f.carrying_liquid)};
   for (const BodyPoints& body : d_.bodies) {
     const ErosionLaw* law = erosion_[body.material].get();
     if (!body.saturated || !law) continue;
@@ -148,6 +156,8 @@ void SpeciesTransport::erode(double dt) {
       double* fc = pts.data(f.fines_content);
       double* c = pts.data(f.concentration);
       double* grad = pts.data(f.hydraulic_gradient);
+      const double* carrying = pts.data(f.carrying_liquid);
+      bool mixed = false;  // some points hold clean water beside the suspension
       for (std::size_t p = begin; p < end; ++p) {
         double q2 = 0;
         for (int i = 0; i < dim; ++i) q2 += q[p * dim + i] * q[p * dim + i];
@@ -155,24 +165,40 @@ void SpeciesTransport::erode(double dt) {
         grad[p] = flux_magnitude_[p] / K[p];  // Darcy: q = K i
         fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
         c[p] = suspended_concentration(pt.suspended_fines[p], pt.liquid_mass[p], pt.grain_density[p], rho_w[p]);
+        const CarrierState cs = carrier_state(pt.suspended_fines[p], carrying[p], pt.liquid_mass[p],
+                                              pt.grain_density[p], rho_w[p]);
+        carrier_share_[p] = cs.share;
+        carrier_concentration_[p] = cs.concentration;
+        mixed = mixed || cs.share < 1;
       }
       auto span = [&](FieldId id) { return std::span<const double>(pts.data(id) + begin, count); };
+      auto scratch = [&](std::vector<double>& v) { return std::span<const double>(v.data() + begin, count); };
       double* rate = pts.data(f.erosion_rate);
+      // The law sees the liquid that carries the fines, at its own c: a point
+      // where the transport has mixed suspension and clean water at a front
+      // erodes as its two parts would, share x rate(c_carrying) + (1 - share)
+      // x rate(0), not at the mixture's c (docs/erosion.md, Mesh convergence).
       law->rate(ErosionBatch{span(m_.porosity), span(f.fines_content), span(f.ultimate_fines_content),
-                             span(f.concentration), std::span<const double>(flux_magnitude_.data() + begin, count),
-                             span(f.hydraulic_gradient), std::span<double>(rate + begin, count)});
-      for (std::size_t p = begin; p < end; ++p)
-        if (!std::isfinite(rate[p]))
-          throw Error("erosion law of material '" + material_names_[body.material] + "' returned rate " +
-                      std::to_string(rate[p]) + " at material point " + std::to_string(p) + " (n = " +
-                      std::to_string(pt.porosity[p]) + ", f_c = " + std::to_string(fc[p]) + ", c = " +
-                      std::to_string(c[p]) + ", |q| = " + std::to_string(flux_magnitude_[p]) + ")");
+                             scratch(carrier_concentration_), scratch(flux_magnitude_), span(f.hydraulic_gradient),
+                             std::span<double>(rate + begin, count)});
+      if (mixed) {
+        law->rate(ErosionBatch{span(m_.porosity), span(f.fines_content), span(f.ultimate_fines_content),
+                               scratch(clean_concentration_), scratch(flux_magnitude_), span(f.hydraulic_gradient),
+                               std::span<double>(clean_rate_.data() + begin, count)});
+        for (std::size_t p = begin; p < end; ++p)
+          if (carrier_share_[p] < 1)
+            rate[p] = carrier_share_[p] * rate[p] + (1 - carrier_share_[p]) * clean_rate_[p];
+      }
       double* dn = pts.data(m_.porosity_increment);
       double* dfc = pts.data(f.fines_content_increment);
       double* fer = pts.data(f.eroded_fraction);
       double* dfer = pts.data(f.eroded_fraction_increment);
       for (std::size_t p = begin; p < end; ++p) dn[p] -= pt.porosity[p], dfc[p] = fc[p], dfer[p] = fer[p];
       apply_erosion(begin, end, dt, pt, pts.data(f.ultimate_fines_content), rate);
+      // Clean water that took up fines (a law that erodes at c = 0) carries them now.
+      if (mixed)
+        for (std::size_t p = begin; p < end; ++p)
+          if (carrier_share_[p] < 1 && clean_rate_[p] > 0 && rate[p] > 0) pt.carrying_liquid[p] = pt.liquid_mass[p];
       for (std::size_t p = begin; p < end; ++p) {
         fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
         fer[p] = pt.eroded_mass[p] / (pt.solid_mass[p] + pt.eroded_mass[p]);
@@ -191,15 +217,16 @@ void SpeciesTransport::transport(double dt) {
   const double* n = pts.data(m_.porosity);
   const Interpolation& s = d_.shape;
   const int dim = d_.dim();
-  for (auto* v : {&node_pore_, &node_liquid_, &node_fines_}) std::fill(v->begin(), v->end(), 0.0);
+  for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_}) std::fill(v->begin(), v->end(), 0.0);
   ScatterTargets targets;
   targets.add(node_pore_);
   targets.add(node_liquid_);
-  if (fines_) targets.add(node_fines_);
+  if (fines_) targets.add(node_fines_), targets.add(node_carrying_);
   const double* fines = fines_ ? pts.data(fines_->suspended_fines) : nullptr;
+  const double* carrying = fines_ ? pts.data(fines_->carrying_liquid) : nullptr;
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    p2g_species(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, pts.data(m_.liquid_mass), fines, out[0], out[1],
-                fines ? out[2] : nullptr);
+    p2g_species(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, pts.data(m_.liquid_mass), fines, carrying, out[0],
+                out[1], fines ? out[2] : nullptr, fines ? out[3] : nullptr);
   });
 
   const TransportGrid g{d_.grid.nodes_per_axis(),
@@ -208,10 +235,12 @@ void SpeciesTransport::transport(double dt) {
                         node_pore_.data(),
                         node_liquid_.data(),
                         fines ? node_fines_.data() : nullptr,
+                        fines ? node_carrying_.data() : nullptr,
                         node_darcy_.data(),
                         node_face_.data(),
                         inflow_liquid_.data(),
-                        inflow_fines_.data()};
+                        inflow_fines_.data(),
+                        inflow_carrying_.data()};
   const std::size_t nn = d_.grid.node_count();
   auto run = [&](auto transport) {
     d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
@@ -221,8 +250,8 @@ void SpeciesTransport::transport(double dt) {
       for (const OpeningNode& on : o.nodes)
         node_out_[on.node] += std::max(0.0, dt * on.area * o.face.outward() * transport.darcy(on.node, o.face.axis));
     d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
-      transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_free_liquid_.data(),
-                         node_free_fines_.data());
+      transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
+                         node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data());
     });
     // What crossed each account this step, summed in node order (independent
     // of the chunking): out, in of liquid; out, in of fines.
@@ -243,6 +272,7 @@ void SpeciesTransport::transport(double dt) {
           const double liquid = share * node_liquid_[I], fines_out = fines ? share * node_fines_[I] : 0.0;
           node_dliquid_[I] -= liquid;
           node_dfines_[I] -= fines_out;
+          if (fines) node_dcarrying_[I] -= share * node_carrying_[I];
           step[k][0] += liquid;
           step[k][2] += fines_out;
         } else if (vol < 0) {
@@ -251,6 +281,7 @@ void SpeciesTransport::transport(double dt) {
           const double liquid = -vol * inflow_liquid_[at], fines_in = -vol * inflow_fines_[at];
           node_dliquid_[I] += liquid;
           node_dfines_[I] += fines_in;
+          node_dcarrying_[I] += -vol * inflow_carrying_[at];
           step[k][1] += liquid;
           step[k][3] += fines_in;
         }
@@ -272,9 +303,12 @@ void SpeciesTransport::transport(double dt) {
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
     g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, node_pore_.data(), node_liquid_.data(),
               node_dliquid_.data(), pts.data(m_.liquid_mass));
-    if (fines)
+    if (fines) {
       g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, node_pore_.data(), node_fines_.data(),
                 node_dfines_.data(), pts.data(fines_->suspended_fines));
+      g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, node_pore_.data(), node_carrying_.data(),
+                node_dcarrying_.data(), pts.data(fines_->carrying_liquid));
+    }
     // The momentum balance sees the pores full of the liquid the point
     // carries: n V rho_L, rho_L = c rho_s + (1 - c) rho_w. Not the carried
     // mass itself, which near a free surface inside the grid can pile up

@@ -21,7 +21,7 @@ namespace suffuse::detail {
 // Ids of the fines' point fields (runs that track fines).
 struct FinesFields {
   FieldId skeleton_fines, suspended_fines, eroded_mass, fines_content, fines_content_increment, ultimate_fines_content,
-      concentration, eroded_fraction, eroded_fraction_increment, erosion_rate, hydraulic_gradient;
+      concentration, eroded_fraction, eroded_fraction_increment, erosion_rate, hydraulic_gradient, carrying_liquid;
 };
 
 class SpeciesTransport {
@@ -79,17 +79,21 @@ class SpeciesTransport {
   std::vector<std::string> material_names_;
   std::vector<std::unique_ptr<ErosionLaw>> erosion_;  // per material, may be null
   std::optional<FinesFields> fines_;                  // runs that track fines
-  std::vector<double> flux_magnitude_;                // per point, scratch of the erosion stage
+  // Per point, scratch of the erosion stage: |q|; the carrying liquid's share
+  // of the pores, its concentration, and 0 (the clean water's); the rate in
+  // the clean water.
+  std::vector<double> flux_magnitude_, carrier_share_, carrier_concentration_, clean_concentration_, clean_rate_;
   std::vector<double> step_fines_content_, step_eroded_fraction_;  // at the start of a quasi-static step
 
   std::vector<Opening> openings_;
-  std::vector<double> inflow_liquid_, inflow_fines_;  // per node and axis: what enters per volume, NaN: no inlet
+  // Per node and axis: what enters per volume, NaN: no inlet.
+  std::vector<double> inflow_liquid_, inflow_fines_, inflow_carrying_;
   std::vector<BoundaryDischarge> discharge_;          // per opening, then the free surfaces; cumulative
   std::vector<std::array<double, 4>> discharge_step_, discharge_carry_;  // this step's share; summation carry
   double initial_solid_ = 0, initial_liquid_ = 0, initial_fines_ = 0;
   std::vector<double> node_face_;  // dim per node: face volumes of the transport
-  std::vector<double> node_pore_, node_liquid_, node_fines_, node_out_, node_dliquid_, node_dfines_,
-      node_free_liquid_, node_free_fines_;
+  std::vector<double> node_pore_, node_liquid_, node_fines_, node_carrying_, node_out_, node_dliquid_, node_dfines_,
+      node_dcarrying_, node_free_liquid_, node_free_fines_, node_free_carrying_;
 };
 
 }  // namespace suffuse::detail
