@@ -77,16 +77,17 @@ TEST_P(Restart, ContinuesBitForBitAndItsOutputsContinue) {
   options.output_dir = a_dir;
   options.checkpoint_interval = GetParam().end / 2;
   bool copied = false;
-  double copied_at = 0;
+  double copied_at = 0, copied_dt = 0;
   options.on_step = [&](const suffuse::Progress& p) {
     if (copied || !fs::exists(a_dir / (name + ".checkpoint"))) return;
     fs::copy(a_dir, b_dir, fs::copy_options::recursive);
     copied = true;
     copied_at = p.time;
+    copied_dt = p.dt;
   };
   a.run(options);
   ASSERT_TRUE(copied);
-  EXPECT_NEAR(copied_at, GetParam().end / 2, a.dt()) << "the first checkpoint is half-way";
+  EXPECT_NEAR(copied_at, GetParam().end / 2, copied_dt) << "the first checkpoint is half-way (by the step that passed it)";
 
   suffuse::Simulation b(scene, registry, 1);
   suffuse::RunOptions resume;
@@ -103,7 +104,10 @@ TEST_P(Restart, ContinuesBitForBitAndItsOutputsContinue) {
   }
   EXPECT_EQ(slurp(b_dir / (name + "_000010.vtp")), slurp(a_dir / (name + "_000010.vtp"))) << "the last frame";
   EXPECT_FALSE(fs::exists(b_dir / (name + "_000011.vtp")));
-  EXPECT_EQ(suffuse::test::read_csv(b_dir / (name + ".all.csv")).rows.size(), 201u) << "the probe's rows";
+  // 200 rows by default (a quasi-static run may have fewer steps than rows:
+  // its file is then compared with run A's above only).
+  if (a.steps() > 1000)
+    EXPECT_EQ(suffuse::test::read_csv(b_dir / (name + ".all.csv")).rows.size(), 201u) << "the probe's rows";
   // The final checkpoint of both runs holds the same state.
   EXPECT_EQ(slurp(b_dir / (name + ".checkpoint")), slurp(a_dir / (name + ".checkpoint")));
 }
@@ -115,7 +119,9 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Restart,
                              // a traction on the points, a recorded reaction, a saturated column
                              Case{"terzaghi", 0.05, {{"reaction", "base"}}},
                              // Mohr-Coulomb's plastic state, a velocity-driven footing
-                             Case{"footing_mc", 0.1, nullptr}),
+                             Case{"footing_mc", 0.1, nullptr},
+                             // quasi-static steps: adaptive sizes, erosion and transport substeps
+                             Case{"suffusion_column_1h", 30.0, nullptr}),
                          [](const auto& info) { return std::string(info.param.scene); });
 
 class RestartRefused : public ::testing::Test {

@@ -95,9 +95,17 @@ void QuasiStatic::prepare(double time, double dt) {
   std::fill(f_ext_.begin(), f_ext_.end(), 0.0);
   std::fill(cell_count_.begin(), cell_count_.end(), 0);
   const auto& g = scene_.gravity;
+  creep_.assign(nn * dim, 0.0);
+  const double* material = pts.data(c.material_id);
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const bool wet = n && n[p] > 0;
     const double weight = m[p] + (wet ? moving[p] : 0.0);
+    const double creep = scene_.quasi_static.creep * V[p] *
+                         materials_.phase(static_cast<std::size_t>(material[p])).p_wave_modulus();
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t k = p * s.npp + a;
+      for (int i = 0; i < dim; ++i) creep_[s.ids[k] * dim + i] += creep * s.gradients[k * dim + i] * s.gradients[k * dim + i];
+    }
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k = p * s.npp + a;
       const std::int64_t I = s.ids[k];
@@ -284,7 +292,7 @@ double QuasiStatic::evaluate(double dt) {
       f2 += f_ext_[k] * f_ext_[k];
       i2 += f_int[k] * f_int[k];
       if (u_dof_[k] < 0) continue;
-      const double r = f_ext_[k] - f_int[k];
+      const double r = f_ext_[k] - f_int[k] - creep_[k] * du_[k];
       residual_[static_cast<std::size_t>(u_dof_[k])] = r;
       r2 += r * r;
     }
@@ -305,6 +313,9 @@ void QuasiStatic::assemble(double dt) {
   const double* rho_w = mixture_ ? pts.data(mixture_->fields().water_density) : nullptr;
   auto& t = linear_->triplets;
   t.clear();
+  // The creep term: eps sum V M |grad N|^2 on each displacement's diagonal.
+  for (std::size_t k = 0; k < u_dof_.size(); ++k)
+    if (u_dof_[k] >= 0) t.emplace_back(static_cast<int>(u_dof_[k]), static_cast<int>(u_dof_[k]), creep_[k]);
   double DB[6][3];
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const double* D = &tangent_[p * 36];
@@ -366,29 +377,26 @@ void QuasiStatic::assemble(double dt) {
                 "conditions), or pore pressure with no face to drain to and no storage");
 }
 
+// Newton iterations on the true stresses, the matrix from the phases'
+// tangents at each iterate (a cohesionless point that separates has none).
 std::optional<int> QuasiStatic::solve(double time, double dt) {
   prepare(time, dt);
   residual_.assign(equations_, 0.0);
   save_state();
-  materials_.tangent(d_, dt, tangent_);
-  assemble(dt);
   const QuasiStaticControls& control = scene_.quasi_static;
   Linear& L = *linear_;
   Eigen::VectorXd rhs(static_cast<Eigen::Index>(equations_));
   for (int iteration = 0;; ++iteration) {
     if (iteration > 0) restore_state();
     const double norm = evaluate(dt);
-    if (getenv("QSDEBUG")) fprintf(stderr, "  it %d norm %g scale %g\n", iteration, norm, force_scale_);
     if (!std::isfinite(norm)) break;
     // The first evaluation has the old pressures: at least one solve.
     if (iteration > 0 && norm <= control.newton_tolerance * force_scale_) return iteration;
     if (iteration == control.max_iterations) break;
+    materials_.tangent(d_, dt, tangent_);
+    assemble(dt);
     for (std::size_t e = 0; e < equations_; ++e) rhs[static_cast<Eigen::Index>(e)] = residual_[e];
     const Eigen::VectorXd delta = L.scale.asDiagonal() * L.ldlt.solve(L.scale.asDiagonal() * rhs);
-    if (getenv("QSDEBUG")) {
-      const Eigen::VectorXd y = L.ldlt.solve(L.scale.asDiagonal() * rhs);
-      fprintf(stderr, "  linear residual %g\n", (L.matrix * y - L.scale.asDiagonal() * rhs).norm() / rhs.norm());
-    }
     for (std::size_t k = 0; k < u_dof_.size(); ++k)
       if (u_dof_[k] >= 0) du_[k] += delta[u_dof_[k]];
     for (std::size_t I = 0; I < p_dof_.size(); ++I)

@@ -18,6 +18,14 @@
 // the tangent only steers the iterations (modified Newton), the equilibrium
 // is that of the true stresses.
 //
+// Where the skeleton carries no stress (a cohesionless layer lifted by
+// seepage above the critical gradient), there is no equilibrium at a fixed
+// permeability. A small stiffness on the displacements, /time/creep times
+// the skeleton's (sum V M |grad N|^2, M its P-wave modulus), lets such a
+// layer creep from step to step, while its dilation raises its permeability,
+// until equilibrium returns (as explicit runs show); elsewhere it changes
+// the equilibrium by that fraction of the step's forces.
+//
 // Boundary conditions are read from the plugins' own effects on the nodes:
 // a velocity constraint fixes du = v dt; a face a condition opens to the
 // liquid fixes p there (bc/pore_pressure, the pressure read from its force
@@ -77,6 +85,7 @@ class QuasiStatic {
   std::vector<double> f_ext_, b_p_;          // loads: mixture forces; pressure equations' right-hand side
   std::vector<double> node_mass_, node_pore_, node_volume_;
   std::vector<double> residual_;             // per equation
+  std::vector<double> creep_;                // per node component: the regularising stiffness
   std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual
   std::vector<double> point_pressure_;       // p interpolated at the points (saturated ones)
   std::vector<int> cell_count_;              // saturated points per cell

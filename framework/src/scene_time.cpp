@@ -19,7 +19,7 @@ ParameterSchema time_schema() {
       "Quasi-static only: the largest step (absent: dt, a fixed step unless the erosion tolerance cuts it)");
   s.number("growth").with_unit("-").at_least(1).fallback(1.5).doc(
       "Quasi-static only: a step is at most this factor times the previous one");
-  s.number("eroded_fraction_tolerance").with_unit("-").above(0).at_most(1).fallback(0.02).doc(
+  s.number("eroded_fraction_tolerance").with_unit("-").above(0).at_most(1).fallback(0.05).doc(
       "Quasi-static only: the largest change of any point's eroded fraction over one step; a step that erodes "
       "more makes the next one shorter in proportion");
   s.number("transport_courant").with_unit("-").above(0).at_most(0.5).fallback(0.4).doc(
@@ -29,6 +29,10 @@ ParameterSchema time_schema() {
       "forces acting");
   s.integer("max_iterations").at_least(1).fallback(25).doc(
       "Quasi-static only: iterations per step before the step is halved and tried again");
+  s.number("creep").with_unit("-").at_least(0).below(1).fallback(1e-4).doc(
+      "Quasi-static only: a stiffness holding each node to its place at the start of the step, this fraction of "
+      "the skeleton's; lets a layer without strength (heave, fluidisation) creep from step to step instead of the "
+      "step failing, and changes the equilibrium elsewhere by this fraction of the step's forces (0: none)");
   s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
       "Courant factor of the automatic time step");
   s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
@@ -50,7 +54,7 @@ ParameterSchema time_schema() {
 void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
   const bool quasi_static = t.has("integration") && t.string("integration") == "quasi_static";
   const char* qs_keys[] = {"max_dt", "growth", "eroded_fraction_tolerance", "transport_courant", "newton_tolerance",
-                           "max_iterations"};
+                           "max_iterations", "creep"};
   if (!quasi_static) {
     for (const char* key : qs_keys)
       if (r.root["time"].contains(key))
@@ -72,6 +76,7 @@ void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
   if (t.has("transport_courant")) q.transport_courant = t.number("transport_courant");
   if (t.has("newton_tolerance")) q.newton_tolerance = t.number("newton_tolerance");
   if (t.has("max_iterations")) q.max_iterations = static_cast<int>(t.integer("max_iterations"));
+  if (t.has("creep")) q.creep = t.number("creep");
   // What only dynamics has would be silently ignored: refused instead.
   for (const char* key : {"cfl", "mass_scaling", "dt_above_stable"})
     if (r.root["time"].contains(key))

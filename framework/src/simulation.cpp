@@ -282,7 +282,6 @@ void Simulation::step_quasi_static() {
     const double eroded = species_->largest_eroded_fraction_increment();
     if (eroded > 0) next = std::min(next, dt * control.eroded_fraction_tolerance / eroded);
   }
-  if (getenv("QSDEBUG")) fprintf(stderr, "step %zu t %g dt %g next %g eroded %g\n", n, t, dt, next, species_ ? species_->largest_eroded_fraction_increment() : 0.0);
   clock_.set_step(next);
 }
 

@@ -29,10 +29,17 @@ class LinearElastic final : public suffuse::Phase {
   double p_wave_modulus() const override { return lambda_ + 2 * G_; }
 
   // The exact tangent: Hooke's law (the stress update adds only the Jaumann
-  // rotation, which a quasi-static step leaves to the iterations).
+  // rotation, which a quasi-static step leaves to the iterations), none for
+  // a point the tension cutoff has separated.
   bool tangent(const suffuse::StressBatch& batch, std::span<double> stiffness) const override {
-    for (std::size_t k = 0; k < batch.range.size(); ++k)
-      suffuse::tensor::isotropic_stiffness(lambda_ + 2 * G_ / 3, G_, stiffness.data() + k * 36);
+    const double* stress = batch.points.data(batch.points.core().stress);
+    for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
+      double* D = stiffness.data() + (p - batch.range.begin) * 36;
+      const double* s6 = stress + p * 6;
+      const bool separated = tension_cutoff_ && s6[0] == 0 && s6[1] == 0 && s6[2] == 0 && s6[3] == 0 &&
+                             s6[4] == 0 && s6[5] == 0;
+      suffuse::tensor::isotropic_stiffness(separated ? 0.0 : lambda_ + 2 * G_ / 3, separated ? 0.0 : G_, D);
+    }
     return true;
   }
   void update_stress(const suffuse::StressBatch& batch) const override {
