@@ -22,8 +22,9 @@ ParameterSchema time_schema() {
   s.number("eroded_fraction_tolerance").with_unit("-").above(0).at_most(1).fallback(0.05).doc(
       "Quasi-static only: the largest change of any point's eroded fraction over one step; a step that erodes "
       "more makes the next one shorter in proportion");
-  s.number("transport_courant").with_unit("-").above(0).at_most(0.5).fallback(0.4).doc(
-      "Quasi-static only: Courant number q dt / (n h) of the erosion and transport substeps within a step");
+  s.number("transport_courant").with_unit("-").above(0).at_most(0.25).fallback(0.2).doc(
+      "Quasi-static only: Courant number q dt / (n h) of the erosion and transport substeps within a step (at "
+      "most 0.25: above it the transport's limiter holds back what a node sends)");
   s.number("newton_tolerance").with_unit("-").above(0).below(1).fallback(1e-8).doc(
       "Quasi-static only: equilibrium is reached when the out-of-balance force is below this fraction of the "
       "forces acting");

@@ -269,7 +269,7 @@ void Simulation::step_quasi_static() {
     species_->start_step();
     for (int k = 0; k < substeps; ++k) {
       timed(Stage::erosion, [&] { species_->erode(transport_dt); });
-      timed(Stage::transport, [&] { species_->transport(transport_dt); });
+      timed(Stage::transport, [&] { species_->transport(transport_dt, true); });
     }
     species_->finish_step();
   }

@@ -184,12 +184,16 @@ struct Transport {
           sum += std::max(0.0, -face_volume(static_cast<std::int64_t>(I) - stride(a), a, below));
         }
       }
-      out[I] = sum + free_surface_volume(static_cast<std::int64_t>(I), c);
+      // Free-surface outflow takes the node's own mean (first order), not a
+      // limited face value of up to four times it: it counts a quarter.
+      out[I] = sum + 0.25 * free_surface_volume(static_cast<std::int64_t>(I), c);
     }
   }
 
   // Share of its content a node may send this step: 1, or less when the
-  // outflow would exceed a quarter of its pore volume (see face_transfer).
+  // outflow would exceed a quarter of its pore volume (see face_transfer;
+  // `out` counts what leaves through free surfaces and open faces, at the
+  // node's own mean, a quarter).
   double scale(std::int64_t I, const double* out) const {
     return 4 * out[I] > g.pore[I] ? g.pore[I] / (4 * out[I]) : 1.0;
   }

@@ -65,7 +65,8 @@ SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry,
   const std::size_t nn = d_.grid.node_count();
   node_face_.assign(nn * scene.dim, 0.0);
   for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_, &node_out_, &node_dliquid_,
-                  &node_dfines_, &node_dcarrying_, &node_free_liquid_, &node_free_fines_, &node_free_carrying_})
+                  &node_dfines_, &node_dcarrying_, &node_free_liquid_, &node_free_fines_, &node_free_carrying_,
+                  &stage_dliquid_, &stage_dfines_, &stage_dcarrying_, &stage_liquid_, &stage_fines_, &stage_carrying_})
     v->assign(nn, 0.0);
   setup_openings(scene, mixture, bcs);
 }
@@ -211,7 +212,7 @@ void SpeciesTransport::erode(double dt) {
   }
 }
 
-void SpeciesTransport::transport(double dt) {
+void SpeciesTransport::transport(double dt, bool second_order) {
   PointSet& pts = d_.points;
   const double* V = pts.data(pts.core().volume);
   const double* n = pts.data(m_.porosity);
@@ -229,70 +230,87 @@ void SpeciesTransport::transport(double dt) {
                 out[1], fines ? out[2] : nullptr, fines ? out[3] : nullptr);
   });
 
-  const TransportGrid g{d_.grid.nodes_per_axis(),
-                        d_.grid.cell_size(),
-                        dt,
-                        node_pore_.data(),
-                        node_liquid_.data(),
-                        fines ? node_fines_.data() : nullptr,
-                        fines ? node_carrying_.data() : nullptr,
-                        node_darcy_.data(),
-                        node_face_.data(),
-                        inflow_liquid_.data(),
-                        inflow_fines_.data(),
-                        inflow_carrying_.data()};
-  const std::size_t nn = d_.grid.node_count();
-  auto run = [&](auto transport) {
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
-    // Open faces: liquid leaving also counts against a node's content.
-    for (const Opening& o : openings_)
-      for (const OpeningNode& on : o.nodes)
-        node_out_[on.node] += std::max(0.0, dt * on.area * o.face.outward() * transport.darcy(on.node, o.face.axis));
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
-      transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
-                         node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data());
-    });
-    // What crossed each account this step, summed in node order (independent
-    // of the chunking): out, in of liquid; out, in of fines.
-    std::vector<std::array<double, 4>>& step = discharge_step_;
-    for (auto& a : step) a = {0, 0, 0, 0};
-    for (std::size_t I = 0; I < nn; ++I) {
-      step.back()[0] += node_free_liquid_[I];
-      step.back()[2] += node_free_fines_[I];
-    }
-    for (std::size_t k = 0; k < openings_.size(); ++k) {
-      const Opening& o = openings_[k];  // the free surfaces' account is the last
-      for (const OpeningNode& on : o.nodes) {
-        const std::int64_t I = on.node;
-        if (node_pore_[I] <= 0) continue;
-        const double vol = dt * on.area * o.face.outward() * transport.darcy(I, o.face.axis);
-        if (vol > 0) {
-          const double share = transport.scale(I, node_out_.data()) * vol / node_pore_[I];
-          const double liquid = share * node_liquid_[I], fines_out = fines ? share * node_fines_[I] : 0.0;
-          node_dliquid_[I] -= liquid;
-          node_dfines_[I] -= fines_out;
-          if (fines) node_dcarrying_[I] -= share * node_carrying_[I];
-          step[k][0] += liquid;
-          step[k][2] += fines_out;
-        } else if (vol < 0) {
-          // What enters per volume, set once per face node in setup_openings.
-          const std::size_t at = static_cast<std::size_t>(I) * dim + o.face.axis;
-          const double liquid = -vol * inflow_liquid_[at], fines_in = -vol * inflow_fines_[at];
-          node_dliquid_[I] += liquid;
-          node_dfines_[I] += fines_in;
-          node_dcarrying_[I] += -vol * inflow_carrying_[at];
-          step[k][1] += liquid;
-          step[k][3] += fines_in;
+  // One forward-Euler stage from the nodal amounts (liquid, fines,
+  // carrying): their changes in node_d*, what crossed each account in `step`.
+  auto stage = [&](const double* liquid, const double* fines_at, const double* carrying_at,
+                   std::vector<std::array<double, 4>>& step) {
+    const TransportGrid g{d_.grid.nodes_per_axis(), d_.grid.cell_size(), dt, node_pore_.data(), liquid,
+                          fines ? fines_at : nullptr, fines ? carrying_at : nullptr, node_darcy_.data(),
+                          node_face_.data(), inflow_liquid_.data(), inflow_fines_.data(), inflow_carrying_.data()};
+    const std::size_t nn = d_.grid.node_count();
+    auto run = [&](auto transport) {
+      d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
+      d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
+      // Open faces: liquid leaving also counts against a node's content (a
+      // quarter: it leaves at the node's mean, see Transport::scale).
+      for (const Opening& o : openings_)
+        for (const OpeningNode& on : o.nodes)
+          node_out_[on.node] +=
+              0.25 * std::max(0.0, dt * on.area * o.face.outward() * transport.darcy(on.node, o.face.axis));
+      d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+        transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
+                           node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data());
+      });
+      // What crossed each account this step, summed in node order (independent
+      // of the chunking): out, in of liquid; out, in of fines.
+      for (auto& a : step) a = {0, 0, 0, 0};
+      for (std::size_t I = 0; I < nn; ++I) {
+        step.back()[0] += node_free_liquid_[I];
+        step.back()[2] += node_free_fines_[I];
+      }
+      for (std::size_t k = 0; k < openings_.size(); ++k) {
+        const Opening& o = openings_[k];  // the free surfaces' account is the last
+        for (const OpeningNode& on : o.nodes) {
+          const std::int64_t I = on.node;
+          if (node_pore_[I] <= 0) continue;
+          const double vol = dt * on.area * o.face.outward() * transport.darcy(I, o.face.axis);
+          if (vol > 0) {
+            const double share = transport.scale(I, node_out_.data()) * vol / node_pore_[I];
+            const double liquid_out = share * liquid[I], fines_out = fines ? share * fines_at[I] : 0.0;
+            node_dliquid_[I] -= liquid_out;
+            node_dfines_[I] -= fines_out;
+            if (fines) node_dcarrying_[I] -= share * carrying_at[I];
+            step[k][0] += liquid_out;
+            step[k][2] += fines_out;
+          } else if (vol < 0) {
+            // What enters per volume, set once per face node in setup_openings.
+            const std::size_t at = static_cast<std::size_t>(I) * dim + o.face.axis;
+            const double liquid_in = -vol * inflow_liquid_[at], fines_in = -vol * inflow_fines_[at];
+            node_dliquid_[I] += liquid_in;
+            node_dfines_[I] += fines_in;
+            node_dcarrying_[I] += -vol * inflow_carrying_[at];
+            step[k][1] += liquid_in;
+            step[k][3] += fines_in;
+          }
         }
       }
-    }
-    add_to_totals(step);
+    };
+    if (dim == 2)
+      run(Transport<2>{g});
+    else
+      run(Transport<3>{g});
   };
-  if (dim == 2)
-    run(Transport<2>{g});
-  else
-    run(Transport<3>{g});
+  stage(node_liquid_.data(), node_fines_.data(), node_carrying_.data(), discharge_step_);
+  if (second_order) {
+    // Heun: U1 = U + D(U); the step's change is (D(U) + D(U1)) / 2, and so is
+    // what crossed each account.
+    const std::size_t nn = d_.grid.node_count();
+    for (std::size_t I = 0; I < nn; ++I) {
+      stage_dliquid_[I] = node_dliquid_[I], stage_liquid_[I] = node_liquid_[I] + node_dliquid_[I];
+      stage_dfines_[I] = node_dfines_[I], stage_fines_[I] = node_fines_[I] + node_dfines_[I];
+      stage_dcarrying_[I] = node_dcarrying_[I], stage_carrying_[I] = node_carrying_[I] + node_dcarrying_[I];
+    }
+    stage_discharge_ = discharge_step_;
+    stage(stage_liquid_.data(), stage_fines_.data(), stage_carrying_.data(), discharge_step_);
+    for (std::size_t I = 0; I < nn; ++I) {
+      node_dliquid_[I] = 0.5 * (stage_dliquid_[I] + node_dliquid_[I]);
+      node_dfines_[I] = 0.5 * (stage_dfines_[I] + node_dfines_[I]);
+      node_dcarrying_[I] = 0.5 * (stage_dcarrying_[I] + node_dcarrying_[I]);
+    }
+    for (std::size_t k = 0; k < discharge_step_.size(); ++k)
+      for (int i = 0; i < 4; ++i) discharge_step_[k][i] = 0.5 * (stage_discharge_[k][i] + discharge_step_[k][i]);
+  }
+  add_to_totals(discharge_step_);
 
   const double* rho_w = pts.data(m_.water_density);
   const double* rho_s = pts.data(m_.grain_density);

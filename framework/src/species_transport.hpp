@@ -41,8 +41,12 @@ class SpeciesTransport {
 
   // Stage "erosion": each material's erosion law, applied at the points.
   void erode(double dt);
-  // Stage "transport": liquid and suspended fines across the grid.
-  void transport(double dt);
+  // Stage "transport": liquid and suspended fines across the grid. Explicit
+  // steps use one forward-Euler stage (their step is far below the
+  // transport's limit); quasi-static substeps at Courant numbers near it use
+  // two (Heun's method, SSP: a mean of two Euler stages, so it stays
+  // positive and conservative), second order in time.
+  void transport(double dt, bool second_order = false);
 
   // Quasi-static steps run erosion and transport in substeps: the fines
   // content and eroded fraction increments then span the whole step.
@@ -94,6 +98,9 @@ class SpeciesTransport {
   std::vector<double> node_face_;  // dim per node: face volumes of the transport
   std::vector<double> node_pore_, node_liquid_, node_fines_, node_carrying_, node_out_, node_dliquid_, node_dfines_,
       node_dcarrying_, node_free_liquid_, node_free_fines_, node_free_carrying_;
+  // Heun's first stage: its changes, and the nodal amounts after it.
+  std::vector<double> stage_dliquid_, stage_dfines_, stage_dcarrying_, stage_liquid_, stage_fines_, stage_carrying_;
+  std::vector<std::array<double, 4>> stage_discharge_;
 };
 
 }  // namespace suffuse::detail

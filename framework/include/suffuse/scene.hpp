@@ -84,7 +84,7 @@ struct QuasiStaticControls {
   double max_dt = 0;                     // [s] the largest step; 0: the first step's
   double growth = 1.5;                   // a step is at most this times the previous one
   double eroded_fraction_tolerance = 0.05;  // largest change of the eroded fraction of a point per step
-  double transport_courant = 0.4;        // q dt_sub / (n h) of the transport substeps
+  double transport_courant = 0.2;        // q dt_sub / (n h) of the transport substeps
   double newton_tolerance = 1e-8;        // relative residual of the equilibrium
   int max_iterations = 25;               // per step, before the step is halved
   double creep = 1e-4;                   // regularising stiffness, a fraction of the skeleton's
