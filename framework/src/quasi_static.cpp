@@ -56,6 +56,7 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
   for (auto* v : {&node_mass_, &node_pore_, &node_volume_, &p_}) v->assign(nn, 0.0);
   du_.assign(nn * dim, 0.0);
   f_ext_.assign(nn * dim, 0.0);
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) modulus_.push_back(materials.phase(m).p_wave_modulus());
   std::size_t cells = 1;
   for (int a = 0; a < dim; ++a) cells *= static_cast<std::size_t>(d_.grid.cells()[a]);
   cell_count_.assign(cells, 0);
@@ -100,8 +101,7 @@ void QuasiStatic::prepare(double time, double dt) {
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const bool wet = n && n[p] > 0;
     const double weight = m[p] + (wet ? moving[p] : 0.0);
-    const double creep = scene_.quasi_static.creep * V[p] *
-                         materials_.phase(static_cast<std::size_t>(material[p])).p_wave_modulus();
+    const double creep = scene_.quasi_static.creep * V[p] * modulus_[static_cast<std::size_t>(material[p])];
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k = p * s.npp + a;
       for (int i = 0; i < dim; ++i) creep_[s.ids[k] * dim + i] += creep * s.gradients[k * dim + i] * s.gradients[k * dim + i];
@@ -165,7 +165,8 @@ void QuasiStatic::prepare(double time, double dt) {
   p_dof_.assign(nn, -1);
   b_p_.assign(nn, 0.0);
   if (!mixture_) return;
-  std::vector<char> fixed(nn, 0);
+  std::vector<char>& fixed = fixed_pressure_;
+  fixed.assign(nn, 0);
   for (const auto& bc : bcs_)
     for (const LiquidOpening& opening : bc->liquid_openings()) {
       const GridFace f = opening.face;

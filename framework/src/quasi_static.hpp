@@ -89,6 +89,8 @@ class QuasiStatic {
   std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual
   std::vector<double> point_pressure_;       // p interpolated at the points (saturated ones)
   std::vector<int> cell_count_;              // saturated points per cell
+  std::vector<char> fixed_pressure_;         // per node: its pressure is prescribed
+  std::vector<double> modulus_;              // per material: the P-wave modulus, for the creep term
   double force_scale_ = 0;
   std::size_t equations_ = 0;
 };
