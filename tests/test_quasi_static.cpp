@@ -22,16 +22,7 @@ std::string text(double v) {
   return o.str();
 }
 
-// Terzaghi's series, z measured down from the drained top.
-double terzaghi_pressure(double u0, double z, double H, double Tv) {
-  double u = 0;
-  for (int m = 0; m < 200; ++m) {
-    const double M = (2 * m + 1) * std::numbers::pi / 2;
-    if (M * M * Tv > 50) break;
-    u += 2 * u0 / M * std::sin(M * z / H) * std::exp(-M * M * Tv);
-  }
-  return u;
-}
+using suffuse::test::terzaghi_pressure;
 
 // The explicit scene made quasi-static: no damping, a first step.
 nlohmann::json quasi_static(nlohmann::json j, double dt, double max_dt = 0) {

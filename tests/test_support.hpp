@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <span>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -15,6 +16,18 @@
 #include <vector>
 
 namespace suffuse::test {
+
+// Terzaghi's series, z measured down from the drained top (terms below
+// e^-50 dropped).
+inline double terzaghi_pressure(double u0, double z, double H, double Tv) {
+  double u = 0;
+  for (int m = 0; m < 200; ++m) {
+    const double M = (2 * m + 1) * std::numbers::pi / 2;
+    if (M * M * Tv > 50) break;
+    u += 2 * u0 / M * std::sin(M * z / H) * std::exp(-M * M * Tv);
+  }
+  return u;
+}
 
 inline nlohmann::json read_json(const std::filesystem::path& file) {
   std::ifstream in(file);

@@ -16,17 +16,7 @@ using suffuse::test::read_json;
 using suffuse::test::scene_from;
 using suffuse::test::source_dir;
 
-// Terzaghi's series, z measured down from the drained top (terms below
-// e^-50 dropped).
-double terzaghi_pressure(double u0, double z, double H, double Tv) {
-  double u = 0;
-  for (int m = 0; m < 200; ++m) {
-    const double M = (2 * m + 1) * std::numbers::pi / 2;
-    if (M * M * Tv > 50) break;
-    u += 2 * u0 / M * std::sin(M * z / H) * std::exp(-M * M * Tv);
-  }
-  return u;
-}
+using suffuse::test::terzaghi_pressure;
 
 double terzaghi_degree(double Tv) {
   double s = 0;
