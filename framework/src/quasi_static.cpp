@@ -96,16 +96,10 @@ void QuasiStatic::prepare(double time, double dt) {
   std::fill(f_ext_.begin(), f_ext_.end(), 0.0);
   std::fill(cell_count_.begin(), cell_count_.end(), 0);
   const auto& g = scene_.gravity;
-  creep_.assign(nn * dim, 0.0);
-  const double* material = pts.data(c.material_id);
+  creep_.assign(nn * dim, 0.0);  // none until a point has no stiffness (assemble)
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const bool wet = n && n[p] > 0;
     const double weight = m[p] + (wet ? moving[p] : 0.0);
-    const double creep = scene_.quasi_static.creep * V[p] * modulus_[static_cast<std::size_t>(material[p])];
-    for (int a = 0; a < s.npp; ++a) {
-      const std::size_t k = p * s.npp + a;
-      for (int i = 0; i < dim; ++i) creep_[s.ids[k] * dim + i] += creep * s.gradients[k * dim + i] * s.gradients[k * dim + i];
-    }
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k = p * s.npp + a;
       const std::int64_t I = s.ids[k];
@@ -314,9 +308,23 @@ void QuasiStatic::assemble(double dt) {
   const double* rho_w = mixture_ ? pts.data(mixture_->fields().water_density) : nullptr;
   auto& t = linear_->triplets;
   t.clear();
-  // The creep term: eps sum V M |grad N|^2 on each displacement's diagonal.
+  // The creep term, from the points without stiffness at this iterate (a
+  // separated cohesionless point): eps V M |grad N|^2 on the diagonal of
+  // their nodes' displacements. Elsewhere none: a stiffness on every node
+  // would stiffen a long column's softest modes by far more than eps.
+  std::fill(creep_.begin(), creep_.end(), 0.0);
+  const double* material = pts.data(pts.core().material_id);
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    const double* D = &tangent_[p * 36];
+    if (D[0] != 0 || D[7] != 0 || D[14] != 0 || D[35] != 0) continue;
+    const double creep = scene_.quasi_static.creep * V[p] * modulus_[static_cast<std::size_t>(material[p])];
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t k = p * s.npp + a;
+      for (int i = 0; i < dim; ++i) creep_[s.ids[k] * dim + i] += creep * s.gradients[k * dim + i] * s.gradients[k * dim + i];
+    }
+  }
   for (std::size_t k = 0; k < u_dof_.size(); ++k)
-    if (u_dof_[k] >= 0) t.emplace_back(static_cast<int>(u_dof_[k]), static_cast<int>(u_dof_[k]), creep_[k]);
+    if (u_dof_[k] >= 0 && creep_[k] > 0) t.emplace_back(static_cast<int>(u_dof_[k]), static_cast<int>(u_dof_[k]), creep_[k]);
   double DB[6][3];
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const double* D = &tangent_[p * 36];

@@ -20,11 +20,11 @@
 //
 // Where the skeleton carries no stress (a cohesionless layer lifted by
 // seepage above the critical gradient), there is no equilibrium at a fixed
-// permeability. A small stiffness on the displacements, /time/creep times
-// the skeleton's (sum V M |grad N|^2, M its P-wave modulus), lets such a
-// layer creep from step to step, while its dilation raises its permeability,
-// until equilibrium returns (as explicit runs show); elsewhere it changes
-// the equilibrium by that fraction of the step's forces.
+// permeability. The nodes of points without stiffness get a small one,
+// /time/creep times the skeleton's (V M |grad N|^2, M its P-wave modulus),
+// holding them to their place at the start of the step: such a layer creeps
+// from step to step, while its dilation raises its permeability, until
+// equilibrium returns (as explicit runs show). Nowhere else.
 //
 // Boundary conditions are read from the plugins' own effects on the nodes:
 // a velocity constraint fixes du = v dt; a face a condition opens to the

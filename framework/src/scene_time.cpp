@@ -31,9 +31,9 @@ ParameterSchema time_schema() {
   s.integer("max_iterations").at_least(1).fallback(25).doc(
       "Quasi-static only: iterations per step before the step is halved and tried again");
   s.number("creep").with_unit("-").at_least(0).below(1).fallback(1e-4).doc(
-      "Quasi-static only: a stiffness holding each node to its place at the start of the step, this fraction of "
-      "the skeleton's; lets a layer without strength (heave, fluidisation) creep from step to step instead of the "
-      "step failing, and changes the equilibrium elsewhere by this fraction of the step's forces (0: none)");
+      "Quasi-static only: where points have no stiffness (a cohesionless layer separated by seepage: heave, "
+      "fluidisation), a stiffness holding their nodes to their place at the start of the step, this fraction of "
+      "the skeleton's; such a layer creeps from step to step instead of the step failing (0: none)");
   s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
       "Courant factor of the automatic time step");
   s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
