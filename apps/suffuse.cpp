@@ -272,6 +272,15 @@ int cmd_validate(const fs::path& scene_file) {
             << " boundary condition(s), " << scene.outputs.size() << " output(s)\n";
   print_gradations(scene);
   warn_about_open_skeletons(scene, std::cout);
+  if (scene.integration == suffuse::TimeIntegration::quasi_static) {
+    // Steps adapt: only the largest is known, and so the fewest steps.
+    const double largest = scene.quasi_static.max_dt > 0 ? scene.quasi_static.max_dt : sim.dt();
+    std::cout << "  run: " << sim.points().size() << " material points, quasi-static, first dt = " << sim.dt()
+              << " s, at most " << largest << " s: at least "
+              << std::llround(std::ceil(scene.end_time / largest - 1e-9)) << " steps to t = " << scene.end_time
+              << " s\n";
+    return 0;
+  }
   std::cout << "  run: " << sim.points().size() << " material points, dt = " << sim.dt() << " s ("
             << (scene.dt ? "fixed" : "automatic") << "), " << std::llround(std::ceil(scene.end_time / sim.dt() - 1e-9))
             << " steps to t = " << scene.end_time << " s\n";
@@ -373,7 +382,10 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
               << "  " << scene.dim << "D grid " << scene.grid_cells[0] << " x " << scene.grid_cells[1];
     if (scene.dim == 3) std::cout << " x " << scene.grid_cells[2];
     std::cout << " cells, " << sim.points().size() << " material points, dt = " << sim.dt() << " s"
-              << (scene.dt ? " (fixed)" : " (automatic, cfl " + format_number(scene.cfl) + ")") << ", end "
+              << (scene.integration == suffuse::TimeIntegration::quasi_static
+                      ? " (quasi-static: the first step, then adaptive)"
+                      : scene.dt ? " (fixed)" : " (automatic, cfl " + format_number(scene.cfl) + ")")
+              << ", end "
               << scene.end_time << " s\n";
     if (scene.mass_scaling != 1)
       std::cout << "  mass scaling " << scene.mass_scaling
