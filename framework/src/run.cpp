@@ -112,6 +112,8 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.point_updates_per_second =
       stepping > 0 ? static_cast<double>(summary.steps) * static_cast<double>(summary.points) / stepping : 0.0;
   summary.stages = times_;
+  summary.transport_substeps = transport_substeps_;
+  summary.steady_transport_steps = steady_transport_steps_;
   if (species_) summary.ledger = mass_ledger();
   summary.interrupted = interrupted;
   return summary;

@@ -25,6 +25,11 @@ ParameterSchema time_schema() {
   s.number("transport_courant").with_unit("-").above(0).at_most(0.25).fallback(0.2).doc(
       "Quasi-static only: Courant number q dt / (n h) of the erosion and transport substeps within a step (at "
       "most 0.25: above it the transport's limiter holds back what a node sends)");
+  s.number("steady_transport_tolerance").with_unit("-").at_least(0).below(1).fallback(1e-3).doc(
+      "Quasi-static only: the transport is steady when a substep erodes nothing and the substeps left, changing "
+      "the composition as much as it did, would change no node's fines share of the liquid by more than this "
+      "fraction of the largest; the rest of the step is then one backward-Euler step (upwind: stable for any "
+      "step, positive, conservative) instead of the substeps. 0: substeps to the end of every step");
   s.number("newton_tolerance").with_unit("-").above(0).below(1).fallback(1e-8).doc(
       "Quasi-static only: equilibrium is reached when the out-of-balance force is below this fraction of the "
       "forces acting");
@@ -54,7 +59,8 @@ ParameterSchema time_schema() {
 // The integration and the keys that belong to one of them only.
 void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
   const bool quasi_static = t.has("integration") && t.string("integration") == "quasi_static";
-  const char* qs_keys[] = {"max_dt", "growth", "eroded_fraction_tolerance", "transport_courant", "newton_tolerance",
+  const char* qs_keys[] = {"max_dt", "growth", "eroded_fraction_tolerance", "transport_courant",
+                           "steady_transport_tolerance", "newton_tolerance",
                            "max_iterations", "creep"};
   if (!quasi_static) {
     for (const char* key : qs_keys)
@@ -75,6 +81,7 @@ void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
   if (t.has("growth")) q.growth = t.number("growth");
   if (t.has("eroded_fraction_tolerance")) q.eroded_fraction_tolerance = t.number("eroded_fraction_tolerance");
   if (t.has("transport_courant")) q.transport_courant = t.number("transport_courant");
+  if (t.has("steady_transport_tolerance")) q.steady_transport_tolerance = t.number("steady_transport_tolerance");
   if (t.has("newton_tolerance")) q.newton_tolerance = t.number("newton_tolerance");
   if (t.has("max_iterations")) q.max_iterations = static_cast<int>(t.integer("max_iterations"));
   if (t.has("creep")) q.creep = t.number("creep");

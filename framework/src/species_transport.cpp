@@ -138,18 +138,20 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
   discharge_carry_.assign(discharge_.size(), {0, 0, 0, 0});
 }
 
-void SpeciesTransport::erode(double dt) {
-  if (!fines_) return;
+bool SpeciesTransport::erode(double dt) {
+  if (!fines_) return false;
   const FinesFields& f = *fines_;
   PointSet& pts = d_.points;
   const int dim = d_.dim();
   const SpeciesPoints pt{pts.data(pts.core().mass),     pts.data(f.skeleton_fines), pts.data(f.suspended_fines),
                          pts.data(m_.liquid_mass),      pts.data(f.eroded_mass),    pts.data(pts.core().volume),
                          pts.data(m_.porosity),         pts.data(m_.grain_density), pts.data(f.carrying_liquid)};
+  std::vector<char>& moved = eroded_in_chunk_;
+  moved.assign(static_cast<std::size_t>(d_.exec.threads()), 0);
   for (const BodyPoints& body : d_.bodies) {
     const ErosionLaw* law = erosion_[body.material].get();
     if (!body.saturated || !law) continue;
-    d_.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {
+    d_.exec.for_chunks(body.range.size(), [&](int chunk, std::size_t b, std::size_t e) {
       const std::size_t begin = body.range.begin + b, end = body.range.begin + e, count = e - b;
       const double* q = pts.data(m_.darcy_flux);
       const double* K = pts.data(m_.conductivity);
@@ -196,6 +198,7 @@ void SpeciesTransport::erode(double dt) {
       double* dfer = pts.data(f.eroded_fraction_increment);
       for (std::size_t p = begin; p < end; ++p) dn[p] -= pt.porosity[p], dfc[p] = fc[p], dfer[p] = fer[p];
       apply_erosion(begin, end, dt, pt, pts.data(f.ultimate_fines_content), rate);
+      for (std::size_t p = begin; p < end && !moved[chunk]; ++p) moved[chunk] = rate[p] != 0;
       // Clean water that took up fines (a law that erodes at c = 0) carries them now.
       if (mixed)
         for (std::size_t p = begin; p < end; ++p)
@@ -210,14 +213,75 @@ void SpeciesTransport::erode(double dt) {
       }
     });
   }
+  return std::find(moved.begin(), moved.end(), 1) != moved.end();
 }
 
-void SpeciesTransport::transport(double dt, bool second_order) {
+void SpeciesTransport::explicit_stage(double dt, const double* liquid, const double* fines_at,
+                                      const double* carrying_at, std::vector<std::array<double, 4>>& step) {
+  const bool fines = fines_.has_value();
+  const int dim = d_.dim();
+  const TransportGrid g{d_.grid.nodes_per_axis(), d_.grid.cell_size(), dt, node_pore_.data(), liquid,
+                        fines ? fines_at : nullptr, fines ? carrying_at : nullptr, node_darcy_.data(),
+                        node_face_.data(), inflow_liquid_.data(), inflow_fines_.data(), inflow_carrying_.data()};
+  const std::size_t nn = d_.grid.node_count();
+  auto run = [&](auto transport) {
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
+    // Open faces: liquid leaving also counts against a node's content (a
+    // quarter: it leaves at the node's mean, see Transport::scale).
+    for (const Opening& o : openings_)
+      for (const OpeningNode& on : o.nodes)
+        node_out_[on.node] +=
+            0.25 * std::max(0.0, dt * on.area * o.face.outward() * transport.darcy(on.node, o.face.axis));
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+      transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
+                         node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data());
+    });
+    // What crossed each account this step, summed in node order (independent
+    // of the chunking): out, in of liquid; out, in of fines.
+    for (auto& a : step) a = {0, 0, 0, 0};
+    for (std::size_t I = 0; I < nn; ++I) {
+      step.back()[0] += node_free_liquid_[I];
+      step.back()[2] += node_free_fines_[I];
+    }
+    for (std::size_t k = 0; k < openings_.size(); ++k) {
+      const Opening& o = openings_[k];  // the free surfaces' account is the last
+      for (const OpeningNode& on : o.nodes) {
+        const std::int64_t I = on.node;
+        if (node_pore_[I] <= 0) continue;
+        const double vol = dt * on.area * o.face.outward() * transport.darcy(I, o.face.axis);
+        if (vol > 0) {
+          const double share = transport.scale(I, node_out_.data()) * vol / node_pore_[I];
+          const double liquid_out = share * liquid[I], fines_out = fines ? share * fines_at[I] : 0.0;
+          node_dliquid_[I] -= liquid_out;
+          node_dfines_[I] -= fines_out;
+          if (fines) node_dcarrying_[I] -= share * carrying_at[I];
+          step[k][0] += liquid_out;
+          step[k][2] += fines_out;
+        } else if (vol < 0) {
+          // What enters per volume, set once per face node in setup_openings.
+          const std::size_t at = static_cast<std::size_t>(I) * dim + o.face.axis;
+          const double liquid_in = -vol * inflow_liquid_[at], fines_in = -vol * inflow_fines_[at];
+          node_dliquid_[I] += liquid_in;
+          node_dfines_[I] += fines_in;
+          node_dcarrying_[I] += -vol * inflow_carrying_[at];
+          step[k][1] += liquid_in;
+          step[k][3] += fines_in;
+        }
+      }
+    }
+  };
+  if (dim == 2)
+    run(Transport<2>{g});
+  else
+    run(Transport<3>{g});
+}
+
+double SpeciesTransport::transport(double dt, TransportScheme scheme) {
   PointSet& pts = d_.points;
   const double* V = pts.data(pts.core().volume);
   const double* n = pts.data(m_.porosity);
   const Interpolation& s = d_.shape;
-  const int dim = d_.dim();
   for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_}) std::fill(v->begin(), v->end(), 0.0);
   ScatterTargets targets;
   targets.add(node_pore_);
@@ -230,68 +294,12 @@ void SpeciesTransport::transport(double dt, bool second_order) {
                 out[1], fines ? out[2] : nullptr, fines ? out[3] : nullptr);
   });
 
-  // One forward-Euler stage from the nodal amounts (liquid, fines,
-  // carrying): their changes in node_d*, what crossed each account in `step`.
-  auto stage = [&](const double* liquid, const double* fines_at, const double* carrying_at,
-                   std::vector<std::array<double, 4>>& step) {
-    const TransportGrid g{d_.grid.nodes_per_axis(), d_.grid.cell_size(), dt, node_pore_.data(), liquid,
-                          fines ? fines_at : nullptr, fines ? carrying_at : nullptr, node_darcy_.data(),
-                          node_face_.data(), inflow_liquid_.data(), inflow_fines_.data(), inflow_carrying_.data()};
-    const std::size_t nn = d_.grid.node_count();
-    auto run = [&](auto transport) {
-      d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
-      d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
-      // Open faces: liquid leaving also counts against a node's content (a
-      // quarter: it leaves at the node's mean, see Transport::scale).
-      for (const Opening& o : openings_)
-        for (const OpeningNode& on : o.nodes)
-          node_out_[on.node] +=
-              0.25 * std::max(0.0, dt * on.area * o.face.outward() * transport.darcy(on.node, o.face.axis));
-      d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
-        transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
-                           node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data());
-      });
-      // What crossed each account this step, summed in node order (independent
-      // of the chunking): out, in of liquid; out, in of fines.
-      for (auto& a : step) a = {0, 0, 0, 0};
-      for (std::size_t I = 0; I < nn; ++I) {
-        step.back()[0] += node_free_liquid_[I];
-        step.back()[2] += node_free_fines_[I];
-      }
-      for (std::size_t k = 0; k < openings_.size(); ++k) {
-        const Opening& o = openings_[k];  // the free surfaces' account is the last
-        for (const OpeningNode& on : o.nodes) {
-          const std::int64_t I = on.node;
-          if (node_pore_[I] <= 0) continue;
-          const double vol = dt * on.area * o.face.outward() * transport.darcy(I, o.face.axis);
-          if (vol > 0) {
-            const double share = transport.scale(I, node_out_.data()) * vol / node_pore_[I];
-            const double liquid_out = share * liquid[I], fines_out = fines ? share * fines_at[I] : 0.0;
-            node_dliquid_[I] -= liquid_out;
-            node_dfines_[I] -= fines_out;
-            if (fines) node_dcarrying_[I] -= share * carrying_at[I];
-            step[k][0] += liquid_out;
-            step[k][2] += fines_out;
-          } else if (vol < 0) {
-            // What enters per volume, set once per face node in setup_openings.
-            const std::size_t at = static_cast<std::size_t>(I) * dim + o.face.axis;
-            const double liquid_in = -vol * inflow_liquid_[at], fines_in = -vol * inflow_fines_[at];
-            node_dliquid_[I] += liquid_in;
-            node_dfines_[I] += fines_in;
-            node_dcarrying_[I] += -vol * inflow_carrying_[at];
-            step[k][1] += liquid_in;
-            step[k][3] += fines_in;
-          }
-        }
-      }
-    };
-    if (dim == 2)
-      run(Transport<2>{g});
-    else
-      run(Transport<3>{g});
-  };
-  stage(node_liquid_.data(), node_fines_.data(), node_carrying_.data(), discharge_step_);
-  if (second_order) {
+  if (scheme == TransportScheme::backward_euler) {
+    implicit_stage(dt);
+  } else {
+    explicit_stage(dt, node_liquid_.data(), node_fines_.data(), node_carrying_.data(), discharge_step_);
+  }
+  if (scheme == TransportScheme::heun) {
     // Heun: U1 = U + D(U); the step's change is (D(U) + D(U1)) / 2, and so is
     // what crossed each account.
     const std::size_t nn = d_.grid.node_count();
@@ -301,7 +309,7 @@ void SpeciesTransport::transport(double dt, bool second_order) {
       stage_dcarrying_[I] = node_dcarrying_[I], stage_carrying_[I] = node_carrying_[I] + node_dcarrying_[I];
     }
     stage_discharge_ = discharge_step_;
-    stage(stage_liquid_.data(), stage_fines_.data(), stage_carrying_.data(), discharge_step_);
+    explicit_stage(dt, stage_liquid_.data(), stage_fines_.data(), stage_carrying_.data(), discharge_step_);
     for (std::size_t I = 0; I < nn; ++I) {
       node_dliquid_[I] = 0.5 * (stage_dliquid_[I] + node_dliquid_[I]);
       node_dfines_[I] = 0.5 * (stage_dfines_[I] + node_dfines_[I]);
@@ -339,6 +347,22 @@ void SpeciesTransport::transport(double dt, bool second_order) {
       moving[p] = n[p] * V[p] * rho[p];
     }
   });
+  return composition_change();
+}
+
+double SpeciesTransport::composition_change() const {
+  if (!fines_) return 0;
+  double fines = 0, carrying = 0, largest_fines = 0;
+  const std::size_t nn = d_.grid.node_count();
+  for (std::size_t I = 0; I < nn; ++I) {
+    const double L0 = node_liquid_[I], L1 = L0 + node_dliquid_[I];
+    if (!(node_pore_[I] > 0 && L0 > 0 && L1 > 0)) continue;
+    const double f0 = node_fines_[I] / L0, f1 = (node_fines_[I] + node_dfines_[I]) / L1;
+    fines = std::max(fines, std::abs(f1 - f0));
+    largest_fines = std::max({largest_fines, f0, f1});
+    carrying = std::max(carrying, std::abs((node_carrying_[I] + node_dcarrying_[I]) / L1 - node_carrying_[I] / L0));
+  }
+  return std::max(largest_fines > 0 ? fines / largest_fines : 0.0, carrying);
 }
 
 void SpeciesTransport::start_step() {

@@ -18,6 +18,15 @@
 
 namespace suffuse::detail {
 
+// How the transport steps in time. Explicit steps use one forward-Euler
+// stage (their step is far below the transport's limit). Quasi-static
+// substeps at Courant numbers near it use Heun's method (SSP: a mean of two
+// Euler stages, so it stays positive and conservative; second order in
+// time). Backward Euler (first-order upwind, unconditionally stable,
+// positive and conservative) takes what is left of a quasi-static step once
+// the transport is steady: one sparse solve instead of thousands of substeps.
+enum class TransportScheme { forward_euler, heun, backward_euler };
+
 // Ids of the fines' point fields (runs that track fines).
 struct FinesFields {
   FieldId skeleton_fines, suspended_fines, eroded_mass, fines_content, fines_content_increment, ultimate_fines_content,
@@ -40,13 +49,12 @@ class SpeciesTransport {
   void start_ledger();
 
   // Stage "erosion": each material's erosion law, applied at the points.
-  void erode(double dt);
-  // Stage "transport": liquid and suspended fines across the grid. Explicit
-  // steps use one forward-Euler stage (their step is far below the
-  // transport's limit); quasi-static substeps at Courant numbers near it use
-  // two (Heun's method, SSP: a mean of two Euler stages, so it stays
-  // positive and conservative), second order in time.
-  void transport(double dt, bool second_order = false);
+  // Returns whether any point eroded or deposited.
+  bool erode(double dt);
+  // Stage "transport": liquid and suspended fines across the grid. Returns
+  // the largest change of a node's composition (composition_change), 0 in
+  // runs without fines.
+  double transport(double dt, TransportScheme scheme = TransportScheme::forward_euler);
 
   // Quasi-static steps run erosion and transport in substeps: the fines
   // content and eroded fraction increments then span the whole step.
@@ -76,6 +84,18 @@ class SpeciesTransport {
   void setup_openings(const Scene& scene, const SaturatedMixture& mixture,
                       const std::vector<std::unique_ptr<BoundaryCondition>>& bcs);
   void add_to_totals(const std::vector<std::array<double, 4>>& step);
+  // One explicit stage from the given nodal amounts: changes in node_d*,
+  // what crossed each account in `step`.
+  void explicit_stage(double dt, const double* liquid, const double* fines, const double* carrying,
+                      std::vector<std::array<double, 4>>& step);
+  // The backward-Euler step (species_transport_implicit.cpp), same outputs.
+  void implicit_stage(double dt);
+  // Largest change over the last transport of a node's composition: its
+  // fines' share of the liquid (relative to the largest share on the grid),
+  // and its carrying liquid's share. Not the liquid per pore volume: that
+  // is the suspension's density wherever the nodal fluxes balance, and what
+  // the points read (c, the liquid's density) depends on the shares alone.
+  double composition_change() const;
 
   Domain& d_;
   const MixtureFields& m_;
@@ -87,6 +107,7 @@ class SpeciesTransport {
   // of the pores, its concentration, and 0 (the clean water's); the rate in
   // the clean water.
   std::vector<double> flux_magnitude_, carrier_share_, carrier_concentration_, clean_concentration_, clean_rate_;
+  std::vector<char> eroded_in_chunk_;  // per thread's chunk: some point eroded
   std::vector<double> step_fines_content_, step_eroded_fraction_;  // at the start of a quasi-static step
 
   std::vector<Opening> openings_;

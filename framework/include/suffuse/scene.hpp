@@ -85,6 +85,7 @@ struct QuasiStaticControls {
   double growth = 1.5;                   // a step is at most this times the previous one
   double eroded_fraction_tolerance = 0.05;  // largest change of the eroded fraction of a point per step
   double transport_courant = 0.2;        // q dt_sub / (n h) of the transport substeps
+  double steady_transport_tolerance = 1e-3;  // below it, the rest of a step is one implicit transport step
   double newton_tolerance = 1e-8;        // relative residual of the equilibrium
   int max_iterations = 25;               // per step, before the step is halved
   double creep = 1e-4;                   // regularising stiffness, a fraction of the skeleton's

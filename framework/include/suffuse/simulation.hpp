@@ -87,6 +87,9 @@ struct RunSummary {
   double point_updates_per_second = 0;
   StageTimes stages;
   std::optional<MassLedger> ledger;  // saturated runs: the final balance
+  // Quasi-static runs with a transport: its explicit substeps, and the steps
+  // whose rest was one backward-Euler step once the transport was steady.
+  std::size_t transport_substeps = 0, steady_transport_steps = 0;
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
 };
 
@@ -151,6 +154,9 @@ class Simulation {
   const GridGeometry& grid() const;
   const NodeState& nodes() const;
   const StageTimes& stage_times() const { return times_; }
+  // Quasi-static runs, since this object was built (see RunSummary).
+  std::size_t transport_substeps() const { return transport_substeps_; }
+  std::size_t steady_transport_steps() const { return steady_transport_steps_; }
   bool saturated() const { return mixture_ != nullptr; }
   // The liquid of /liquids entry `index` (scene order); saturated runs only.
   const Liquid& liquid(std::size_t index) const;
@@ -196,6 +202,7 @@ class Simulation {
   std::unique_ptr<detail::QuasiStatic> quasi_static_;        // quasi-static runs
   SimulationClock clock_{0};
   StageTimes times_;
+  std::size_t transport_substeps_ = 0, steady_transport_steps_ = 0;
 };
 
 }  // namespace suffuse
