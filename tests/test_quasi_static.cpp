@@ -208,10 +208,10 @@ TEST(QuasiStatic, SuffusionColumn) {
   EXPECT_LT(ledger.liquid_imbalance(), 1e-12);
   EXPECT_LT(ledger.solid_imbalance(), 1e-12);
   // The erodible fines washed out by 50 s, as in the explicit run: F is
-  // (f_c0 - f_c_inf) / (1 - f_c_inf) of the solid, 0.15789. All but the
-  // heaving top (measured 0.15758: docs/time-integration.md).
+  // (f_c0 - f_c_inf) / (1 - f_c_inf) of the solid, 0.15789 (measured
+  // 0.157895; the heaving top kept 0.2% before the consistent face flux).
   const double F = ledger.eroded / ledger.initial_solid, F_all = (0.2 - 0.05) / (1 - 0.05);
-  EXPECT_GT(F, 0.99 * F_all);
+  EXPECT_GT(F, 0.999 * F_all);
   EXPECT_LE(F, F_all * (1 + 1e-12));
   RecordProperty("eroded_fraction_50s", text(F));
   RecordProperty("steps", text(static_cast<double>(run.steps)));

@@ -36,7 +36,7 @@ const std::vector<GridField>& GridProjection::project(Domain& d) {
     if (mixture_) {
       fields_.push_back({"liquid_velocity", "m/s", "velocity of the pore liquid, liquid-mass-weighted", D, {}});
       fields_.push_back({"pore_pressure", "Pa", "pore pressure, compression positive, volume-weighted", 1, {}});
-      fields_.push_back({"darcy_flux", "m/s", "Darcy flux n (v_L - v_s), volume-weighted", D, {}});
+      fields_.push_back({"darcy_flux", "m/s", "Darcy flux n (v_L - v_s), the nodal flux the transport uses", D, {}});
     }
     for (GridField& f : fields_) f.values.resize(nodes * f.components);
     weight_.resize(nodes);
@@ -52,7 +52,7 @@ const std::vector<GridField>& GridProjection::project(Domain& d) {
     const MixtureFields& m = *mixture_;
     weighted_mean(shape_, n, d.points.data(m.liquid_mass), d.points.data(m.liquid_velocity), D, fields_[2], weight_);
     weighted_mean(shape_, n, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
-    weighted_mean(shape_, n, volume, d.points.data(m.darcy_flux), D, fields_[4], weight_);
+    fields_[4].values = *nodal_darcy_;
   }
   return fields_;
 }

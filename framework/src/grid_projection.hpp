@@ -14,14 +14,19 @@ struct MixtureFields;
 
 class GridProjection {
  public:
-  // `mixture`: the saturated mixture's point fields, or null in dry runs.
-  GridProjection(const MixtureFields* mixture) : mixture_(mixture) {}
+  // `mixture`: the saturated mixture's point fields, or null in dry runs;
+  // `nodal_darcy`: its nodal Darcy flux (D per node).
+  GridProjection(const MixtureFields* mixture, const std::vector<double>* nodal_darcy)
+      : mixture_(mixture), nodal_darcy_(nodal_darcy) {}
   // mass, velocity (mass-weighted); saturated runs also liquid_velocity
-  // (liquid-mass-weighted), pore_pressure and darcy_flux (volume-weighted).
+  // (liquid-mass-weighted), pore_pressure (volume-weighted) and darcy_flux:
+  // the nodal flux the transport moves the liquid with, so that a face's
+  // flow rate is the one the mass ledger books.
   const std::vector<GridField>& project(Domain& domain);
 
  private:
   const MixtureFields* mixture_;
+  const std::vector<double>* nodal_darcy_;
   Interpolation shape_;
   std::vector<GridField> fields_;
   std::vector<double> weight_;

@@ -90,6 +90,14 @@ class QuasiStatic {
   std::vector<double> point_pressure_;       // p interpolated at the points (saturated ones)
   std::vector<int> cell_count_;              // saturated points per cell
   std::vector<char> fixed_pressure_;         // per node: its pressure is prescribed
+  // Nodes whose pressure one face open to the liquid prescribes: the flux
+  // through that face, from their pressure equation's residual.
+  struct FaceFlux {
+    std::int64_t node;
+    int axis;
+    double outward, area;
+  };
+  std::vector<FaceFlux> face_flux_;
   std::vector<double> modulus_;              // per material: the P-wave modulus, for the creep term
   double force_scale_ = 0;
   std::size_t equations_ = 0;

@@ -88,7 +88,8 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   std::optional<detail::StepGuard::MixtureIds> mixture_ids;
   if (mixture_) mixture_ids = {mixture_->fields().porosity, mixture_->fields().pressure, mixture_->fields().darcy_flux};
   guard_ = std::make_unique<detail::StepGuard>(scene_, mixture_ids);
-  grid_projection_ = std::make_unique<detail::GridProjection>(mixture_ ? &mixture_->fields() : nullptr);
+  grid_projection_ = std::make_unique<detail::GridProjection>(
+      mixture_ ? &mixture_->fields() : nullptr, mixture_ ? &mixture_->nodal_darcy_flux() : nullptr);
   create_bodies();
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
   if (scene.integration == TimeIntegration::quasi_static) {
