@@ -251,13 +251,8 @@ void SpeciesTransport::explicit_stage(double dt, const double* liquid, const dou
         if (node_pore_[I] <= 0) continue;
         const double vol = dt * on.area * o.face.outward() * transport.darcy(I, o.face.axis);
         if (vol > 0) {
-          const double share = transport.scale(I, node_out_.data()) * vol / node_pore_[I];
-          const double liquid_out = share * liquid[I], fines_out = fines ? share * fines_at[I] : 0.0;
-          node_dliquid_[I] -= liquid_out;
-          node_dfines_[I] -= fines_out;
-          if (fines) node_dcarrying_[I] -= share * carrying_at[I];
-          step[k][0] += liquid_out;
-          step[k][2] += fines_out;
+          discharge(static_cast<std::size_t>(I), transport.scale(I, node_out_.data()) * vol / node_pore_[I], liquid,
+                    fines_at, carrying_at, step[k]);
         } else if (vol < 0) {
           // What enters per volume, set once per face node in setup_openings.
           const std::size_t at = static_cast<std::size_t>(I) * dim + o.face.axis;
@@ -275,6 +270,16 @@ void SpeciesTransport::explicit_stage(double dt, const double* liquid, const dou
     run(Transport<2>{g});
   else
     run(Transport<3>{g});
+}
+
+void SpeciesTransport::discharge(std::size_t I, double share, const double* liquid, const double* fines,
+                                 const double* carrying, std::array<double, 4>& account) {
+  const double liquid_out = share * liquid[I], fines_out = fines_ ? share * fines[I] : 0.0;
+  node_dliquid_[I] -= liquid_out;
+  node_dfines_[I] -= fines_out;
+  if (fines_) node_dcarrying_[I] -= share * carrying[I];
+  account[0] += liquid_out;
+  account[2] += fines_out;
 }
 
 double SpeciesTransport::transport(double dt, TransportScheme scheme) {

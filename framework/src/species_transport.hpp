@@ -88,6 +88,10 @@ class SpeciesTransport {
   // what crossed each account in `step`.
   void explicit_stage(double dt, const double* liquid, const double* fines, const double* carrying,
                       std::vector<std::array<double, 4>>& step);
+  // A share of node I's liquid (and its fines and carrying liquid, given
+  // per node) leaves the grid, booked to `account` (out of liquid, of fines).
+  void discharge(std::size_t I, double share, const double* liquid, const double* fines, const double* carrying,
+                 std::array<double, 4>& account);
   // The backward-Euler step (species_transport_implicit.cpp), same outputs.
   void implicit_stage(double dt);
   // Largest change over the last transport of a node's composition: its

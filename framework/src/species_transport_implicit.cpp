@@ -108,13 +108,16 @@ void SpeciesTransport::implicit_stage(double dt) {
     }
 
     // The transfers the new amounts imply, each between two accounts.
+    const double* liquid = stage_liquid_.data();
+    const double* fines_at = fines ? stage_fines_.data() : nullptr;
+    const double* carrying = fines ? stage_carrying_.data() : nullptr;
     for (auto& account : discharge_step_) account = {0, 0, 0, 0};
     auto send = [&](std::size_t from, std::size_t to, double volume) {  // volume > 0 from `from` to `to`
       const double share = volume / pore[from];
-      const double liquid = share * stage_liquid_[from];
-      node_dliquid_[from] -= liquid, node_dliquid_[to] += liquid;
+      const double moved = share * liquid[from];
+      node_dliquid_[from] -= moved, node_dliquid_[to] += moved;
       if (!fines) return;
-      const double f = share * stage_fines_[from], carried = share * stage_carrying_[from];
+      const double f = share * fines_at[from], carried = share * carrying[from];
       node_dfines_[from] -= f, node_dfines_[to] += f;
       node_dcarrying_[from] -= carried, node_dcarrying_[to] += carried;
     };
@@ -128,20 +131,7 @@ void SpeciesTransport::implicit_stage(double dt) {
         if (vol < 0) send(J, I, -vol);
       }
       const double free = transport.free_surface_volume(static_cast<std::int64_t>(I), c);
-      node_free_liquid_[I] = node_free_fines_[I] = node_free_carrying_[I] = 0;
-      if (free > 0) {
-        const double share = free / pore[I];
-        node_free_liquid_[I] = share * stage_liquid_[I];
-        node_dliquid_[I] -= node_free_liquid_[I];
-        if (fines) {
-          node_free_fines_[I] = share * stage_fines_[I];
-          node_free_carrying_[I] = share * stage_carrying_[I];
-          node_dfines_[I] -= node_free_fines_[I];
-          node_dcarrying_[I] -= node_free_carrying_[I];
-        }
-      }
-      discharge_step_.back()[0] += node_free_liquid_[I];
-      discharge_step_.back()[2] += node_free_fines_[I];
+      if (free > 0) discharge(I, free / pore[I], liquid, fines_at, carrying, discharge_step_.back());
     }
     for (std::size_t k = 0; k < openings_.size(); ++k) {
       const Opening& o = openings_[k];
@@ -149,13 +139,7 @@ void SpeciesTransport::implicit_stage(double dt) {
         const double vol = opening_volume(transport, o, on);
         const auto I = static_cast<std::size_t>(on.node);
         if (vol > 0) {
-          const double share = vol / pore[I];
-          const double liquid = share * stage_liquid_[I], f = fines ? share * stage_fines_[I] : 0.0;
-          node_dliquid_[I] -= liquid;
-          node_dfines_[I] -= f;
-          if (fines) node_dcarrying_[I] -= share * stage_carrying_[I];
-          discharge_step_[k][0] += liquid;
-          discharge_step_[k][2] += f;
+          discharge(I, vol / pore[I], liquid, fines_at, carrying, discharge_step_[k]);
         } else if (vol < 0) {  // already in node_d*, from the right-hand side
           const std::size_t at = I * dim + o.face.axis;
           discharge_step_[k][1] -= vol * inflow_liquid_[at];
