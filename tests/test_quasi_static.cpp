@@ -129,9 +129,8 @@ TEST(QuasiStatic, TerzaghiIsochrones3D) {
 // within 0.1% of the base pressure; the liquid's ledger closes.
 TEST(QuasiStatic, SteadyUpwardSeepage) {
   auto j = quasi_static(read_json(source_dir() / "share/scenes/upward_seepage.json"), 0.05);
-  const double L = 1.0, dh = 0.5, K = 0.01, n = 0.4, rho_s = 2650, rho_w = 1000, g = 9.81, h = 0.02;
-  const double gamma_w = rho_w * g, i = dh / L, q_exact = K * i;
-  const double gamma_buoyant = (1 - n) * (rho_s - rho_w) * g;
+  const suffuse::test::UpwardSeepage seepage;
+  const double L = seepage.L, q_exact = seepage.flux(), h = 0.02;
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
@@ -149,13 +148,13 @@ TEST(QuasiStatic, SteadyUpwardSeepage) {
   for (std::size_t k = 0; k < pts.size(); ++k) {
     const double y = x[2 * k + 1] - u[2 * k + 1], z = L - y;
     const auto c = std::min(cells - 1, static_cast<std::size_t>(y / h));
-    p_worst = std::max(p_worst, std::abs(p[k] - gamma_w * (L + dh - y * (1 + i))) / (gamma_w * (L + dh)));
+    p_worst = std::max(p_worst, std::abs(p[k] - seepage.pressure(y)) / seepage.pressure(0));
     cell_q[c] += q[2 * k + 1];
-    cell_error[c] += s[6 * k + 1] + (gamma_buoyant - i * gamma_w) * z;
+    cell_error[c] += s[6 * k + 1] + seepage.effective_stress(z);
     cell_points[c] += 1;
   }
   double q_worst = 0, s_worst = 0, q_top = 0, s_top = 0;
-  const double s_base = (gamma_buoyant - i * gamma_w) * L;
+  const double s_base = seepage.effective_stress(L);
   for (std::size_t c = 0; c < cells; ++c) {
     const double q_error = std::abs(cell_q[c] / cell_points[c] / q_exact - 1);
     const double s_error = std::abs(cell_error[c] / cell_points[c]) / s_base;

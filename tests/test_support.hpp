@@ -17,6 +17,20 @@
 
 namespace suffuse::test {
 
+// Steady upward seepage (share/scenes/upward_seepage.json;
+// ../shared/reference/physics.md, section 4): a column of height L under its
+// water table, the head at its base dh higher. Heights y from the base,
+// depths z from the top; stresses compression positive.
+struct UpwardSeepage {
+  double L = 1.0, dh = 0.5, K = 0.01, n = 0.4, rho_s = 2650, rho_w = 1000, g = 9.81;
+  double gamma_w() const { return rho_w * g; }
+  double gradient() const { return dh / L; }
+  double flux() const { return K * gradient(); }  // upward
+  double buoyant_weight() const { return (1 - n) * (rho_s - rho_w) * g; }
+  double effective_stress(double z) const { return (buoyant_weight() - gradient() * gamma_w()) * z; }
+  double pressure(double y) const { return gamma_w() * (L + dh - y * (1 + gradient())); }
+};
+
 // Terzaghi's series, z measured down from the drained top (terms below
 // e^-50 dropped).
 inline double terzaghi_pressure(double u0, double z, double H, double Tv) {

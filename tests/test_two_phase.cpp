@@ -171,9 +171,8 @@ TEST(TwoPhase, SaturatedSceneValidation) {
 TEST(TwoPhase, SteadyUpwardSeepage) {
   auto j = read_json(source_dir() / "share/scenes/upward_seepage.json");
   j["outputs"] = nlohmann::json::array();
-  const double L = 1.0, dh = 0.5, K = 0.01, n = 0.4, rho_s = 2650, rho_w = 1000, g = 9.81;
-  const double gamma_w = rho_w * g, i = dh / L;
-  const double gamma_buoyant = (1 - n) * (rho_s - rho_w) * g;
+  const suffuse::test::UpwardSeepage seepage;
+  const double L = seepage.L, rho_w = seepage.rho_w, gamma_w = seepage.gamma_w();
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
@@ -188,15 +187,15 @@ TEST(TwoPhase, SteadyUpwardSeepage) {
   const double* q = pts.data(pts.id("darcy_flux"));
   double q_mean = 0, q_worst = 0, p_worst = 0, s_worst = 0, s_worst_abs = 0;
   std::vector<double> layer_flux(100, 0.0);  // flux through each layer of points (0.01 m)
-  const double q_exact = K * dh / L, p_base = gamma_w * (L + dh);
+  const double q_exact = seepage.flux(), p_base = seepage.pressure(0);
   for (std::size_t k = 0; k < pts.size(); ++k) {
     const double y = x[2 * k + 1] - u[2 * k + 1], z = L - y;
     q_mean += q[2 * k + 1] / static_cast<double>(pts.size());
     layer_flux[static_cast<std::size_t>(y / 0.01)] += q[2 * k + 1] / 2;  // 2 points per layer
-    p_worst = std::max(p_worst, std::abs(p[k] - gamma_w * (L + dh - y * (1 + i))) / p_base);
-    const double sv = -(gamma_buoyant - i * gamma_w) * z;
+    p_worst = std::max(p_worst, std::abs(p[k] - seepage.pressure(y)) / p_base);
+    const double sv = -seepage.effective_stress(z);
     if (z > 0.3 && z < 0.9) s_worst = std::max(s_worst, std::abs(s[6 * k + 1] - sv) / std::abs(sv));
-    s_worst_abs = std::max(s_worst_abs, std::abs(s[6 * k + 1] - sv) / ((gamma_buoyant - i * gamma_w) * L));
+    s_worst_abs = std::max(s_worst_abs, std::abs(s[6 * k + 1] - sv) / seepage.effective_stress(L));
   }
   // Flux through each cross-section, except the last five cells (0.1 m) below
   // the free top where the liquid leaves the body: points there deviate by up
