@@ -272,7 +272,10 @@ void Simulation::step_quasi_static() {
       bool eroded = false;
       double change = 0;
       timed(Stage::erosion, [&] { eroded = species_->erode(transport_dt); });
-      timed(Stage::transport, [&] { change = species_->transport(transport_dt, detail::TransportScheme::heun); });
+      timed(Stage::transport, [&] {
+        species_->transport(transport_dt, detail::TransportScheme::heun);
+        change = species_->composition_change();
+      });
       ++transport_substeps_;
       // Steady: nothing erodes, and the substeps left, each changing the
       // composition as much as this one, would stay within the tolerance.

@@ -282,7 +282,7 @@ void SpeciesTransport::discharge(std::size_t I, double share, const double* liqu
   account[2] += fines_out;
 }
 
-double SpeciesTransport::transport(double dt, TransportScheme scheme) {
+void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   PointSet& pts = d_.points;
   const double* V = pts.data(pts.core().volume);
   const double* n = pts.data(m_.porosity);
@@ -352,7 +352,6 @@ double SpeciesTransport::transport(double dt, TransportScheme scheme) {
       moving[p] = n[p] * V[p] * rho[p];
     }
   });
-  return composition_change();
 }
 
 double SpeciesTransport::composition_change() const {

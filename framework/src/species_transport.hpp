@@ -51,10 +51,15 @@ class SpeciesTransport {
   // Stage "erosion": each material's erosion law, applied at the points.
   // Returns whether any point eroded or deposited.
   bool erode(double dt);
-  // Stage "transport": liquid and suspended fines across the grid. Returns
-  // the largest change of a node's composition (composition_change), 0 in
-  // runs without fines.
-  double transport(double dt, TransportScheme scheme = TransportScheme::forward_euler);
+  // Stage "transport": liquid and suspended fines across the grid.
+  void transport(double dt, TransportScheme scheme = TransportScheme::forward_euler);
+  // Largest change over the last transport of a node's composition: its
+  // fines' share of the liquid (relative to the largest share on the grid),
+  // and its carrying liquid's share; 0 in runs without fines. Not the liquid
+  // per pore volume: that is the suspension's density wherever the nodal
+  // fluxes balance, and what the points read (c, the liquid's density)
+  // depends on the shares alone.
+  double composition_change() const;
 
   // Quasi-static steps run erosion and transport in substeps: the fines
   // content and eroded fraction increments then span the whole step.
@@ -94,12 +99,6 @@ class SpeciesTransport {
                  std::array<double, 4>& account);
   // The backward-Euler step (species_transport_implicit.cpp), same outputs.
   void implicit_stage(double dt);
-  // Largest change over the last transport of a node's composition: its
-  // fines' share of the liquid (relative to the largest share on the grid),
-  // and its carrying liquid's share. Not the liquid per pore volume: that
-  // is the suspension's density wherever the nodal fluxes balance, and what
-  // the points read (c, the liquid's density) depends on the shares alone.
-  double composition_change() const;
 
   Domain& d_;
   const MixtureFields& m_;
