@@ -473,6 +473,9 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
       sep = ", ";
     }
     std::cout << "\n";
+    if (scene.integration == suffuse::TimeIntegration::quasi_static)
+      std::cout << "  equilibrium: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps; "
+                << s.halved_steps << " attempts halved\n";
     if (s.transport_substeps > 0)
       std::cout << "  transport: " << s.transport_substeps << " substeps; " << s.steady_transport_steps << " of "
                 << s.steps << " steps ended by one implicit step once the transport was steady\n";

@@ -13,10 +13,12 @@
 // Darcy flow K / gamma_w), b the old pressures' storage, gravity's flow and
 // the inflow. The matrix is symmetric quasi-definite, so a sparse LDL'
 // factorisation exists for any ordering (Vanderbei 1995): Eigen's
-// SimplicialLDLT with AMD ordering. The stresses come from the phases'
-// own updates, from the state at the start of the step, in every iteration:
-// the tangent only steers the iterations (modified Newton), the equilibrium
-// is that of the true stresses.
+// SimplicialLDLT with AMD ordering; where a phase's tangent is not symmetric
+// (Mohr-Coulomb with psi < phi), SparseLU with COLAMD ordering. The stresses
+// come from the phases' own updates, from the state at the start of the
+// step, in every iteration: the tangent only steers the iterations (Newton's
+// method with each phase's consistent tangent where it gives one, a
+// backtracking line search), the equilibrium is that of the true stresses.
 //
 // Where the skeleton carries no stress (a cohesionless layer lifted by
 // seepage above the critical gradient), there is no equilibrium at a fixed
@@ -68,7 +70,12 @@ class QuasiStatic {
   void save_state();
   void restore_state();
   double evaluate(double dt);  // stresses from du, p; the residual; returns the norm of the forces'
-  void assemble(double dt);  // the matrix, from the tangents at the start of the step
+  // Newton iterations from the current du, p, with a backtracking line
+  // search; counts them; true if they converged (the state is then that of
+  // the solution), else the state is restored.
+  bool newton(double dt, int& iterations);
+  void prepare_blocks();  // the node pairs the matrix couples, after prepare
+  void assemble(double dt);  // the matrix, from the tangents at the iterate
 
   const Scene& scene_;
   Domain& d_;
@@ -82,6 +89,7 @@ class QuasiStatic {
   NodeState probe_;                         // what the boundary conditions do to the nodes
   std::vector<std::int64_t> u_dof_, p_dof_;  // per node component / node: equation, or -1 (none or fixed)
   std::vector<double> du_, p_;               // the step's nodal unknowns, fixed values included
+  std::vector<double> du_previous_, p_previous_;  // the last iterate, for the line search
   std::vector<double> f_ext_, b_p_;          // loads: mixture forces; pressure equations' right-hand side
   std::vector<double> node_mass_, node_pore_, node_volume_;
   std::vector<double> residual_;             // per equation
@@ -98,6 +106,15 @@ class QuasiStatic {
     double outward, area;
   };
   std::vector<FaceFlux> face_flux_;
+  // The matrix in blocks (prepare_blocks): per node with an unknown and per
+  // slot of the stencil around it, (dim + 1)^2 values.
+  std::vector<int> point_nodes_ijk_;         // 3 per point and support node
+  std::vector<std::int64_t> block_node_;      // per node: its index among block_nodes_, or -1
+  std::vector<std::int64_t> block_nodes_;     // the nodes with an unknown
+  std::vector<double> blocks_;
+  std::vector<char> block_used_;             // per node and slot: a point couples the pair
+  int stencil_radius_ = 0, stencil_width_ = 1;
+  std::size_t stencil_slots_ = 1;
   std::vector<double> modulus_;              // per material: the P-wave modulus, for the creep term
   double force_scale_ = 0;
   std::size_t equations_ = 0;

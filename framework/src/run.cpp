@@ -114,6 +114,8 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.stages = times_;
   summary.transport_substeps = transport_substeps_;
   summary.steady_transport_steps = steady_transport_steps_;
+  summary.newton_iterations = newton_iterations_;
+  summary.halved_steps = halved_steps_;
   if (species_) summary.ledger = mass_ledger();
   summary.interrupted = interrupted;
   return summary;

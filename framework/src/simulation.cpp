@@ -252,7 +252,11 @@ void Simulation::step_quasi_static() {
   for (;;) {  // halved until the equilibrium converges
     std::optional<int> iterations;
     timed(Stage::solve, [&] { iterations = quasi_static_->solve(t, dt); });
-    if (iterations) break;
+    if (iterations) {
+      newton_iterations_ += static_cast<std::size_t>(*iterations);
+      break;
+    }
+    ++halved_steps_;
     if (dt < 1e-6 * *scene_.dt)
       throw Error("step " + std::to_string(n + 1) + " (t = " + detail::format(t) +
                   " s): no equilibrium within /time/max_iterations = " + std::to_string(control.max_iterations) +

@@ -90,6 +90,9 @@ struct RunSummary {
   // Quasi-static runs with a transport: its explicit substeps, and the steps
   // whose rest was one backward-Euler step once the transport was steady.
   std::size_t transport_substeps = 0, steady_transport_steps = 0;
+  // Quasi-static runs: the Newton iterations of the steps that converged,
+  // and the attempts that did not (each halved its step).
+  std::size_t newton_iterations = 0, halved_steps = 0;
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
 };
 
@@ -157,6 +160,8 @@ class Simulation {
   // Quasi-static runs, since this object was built (see RunSummary).
   std::size_t transport_substeps() const { return transport_substeps_; }
   std::size_t steady_transport_steps() const { return steady_transport_steps_; }
+  std::size_t newton_iterations() const { return newton_iterations_; }
+  std::size_t halved_steps() const { return halved_steps_; }
   bool saturated() const { return mixture_ != nullptr; }
   // The liquid of /liquids entry `index` (scene order); saturated runs only.
   const Liquid& liquid(std::size_t index) const;
@@ -202,7 +207,7 @@ class Simulation {
   std::unique_ptr<detail::QuasiStatic> quasi_static_;        // quasi-static runs
   SimulationClock clock_{0};
   StageTimes times_;
-  std::size_t transport_substeps_ = 0, steady_transport_steps_ = 0;
+  std::size_t transport_substeps_ = 0, steady_transport_steps_ = 0, newton_iterations_ = 0, halved_steps_ = 0;
 };
 
 }  // namespace suffuse

@@ -27,29 +27,90 @@ using Vec3 = std::array<double, 3>;
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // The return mapping in principal stresses, for stresses sorted s1 >= s2 >= s3.
+// Every surface it returns to is a plane in principal stress space, so the
+// return is a linear map of the trial stress for a given active set, and its
+// consistent tangent follows from that set alone (tangent()).
 class MohrCoulombReturn {
  public:
+  // The planes a return can end on: the cone's plane, its neighbours across
+  // the extension (s2 = s3) and compression (s1 = s2) edges, and the three
+  // planes of the tension cut-off s_i <= t.
+  enum SurfaceId { plane, extension_edge, compression_edge, cut_off_1, cut_off_2, cut_off_3, surface_count };
+  struct Returned {
+    Vec3 stress;
+    int active = 0;  // how many planes it ended on (0: the trial was admissible)
+    int ids[3] = {};
+  };
+
   MohrCoulombReturn(double G, double lambda, double phi, double cohesion, double psi, double tension)
       : G_(G), lambda_(lambda), sin_phi_(std::sin(phi)), k_(2 * cohesion * std::cos(phi)), tension_(tension) {
     const double sp = sin_phi_, sq = std::sin(psi);
-    plane_ = {{1 + sp, 0, -(1 - sp)}, {1 + sq, 0, -(1 - sq)}};
-    compression_edge_ = {{0, 1 + sp, -(1 - sp)}, {0, 1 + sq, -(1 - sq)}};  // s1 = s2
-    extension_edge_ = {{1 + sp, -(1 - sp), 0}, {1 + sq, -(1 - sq), 0}};    // s2 = s3
+    surfaces_[plane] = {{1 + sp, 0, -(1 - sp)}, {1 + sq, 0, -(1 - sq)}, k_};
+    surfaces_[extension_edge] = {{1 + sp, -(1 - sp), 0}, {1 + sq, -(1 - sq), 0}, k_};    // beyond s2 = s3
+    surfaces_[compression_edge] = {{0, 1 + sp, -(1 - sp)}, {0, 1 + sq, -(1 - sq)}, k_};  // beyond s1 = s2
+    for (int i = 0; i < 3; ++i) {
+      Vec3 e{0, 0, 0};
+      e[i] = 1;
+      surfaces_[cut_off_1 + i] = {e, e, tension};
+    }
     apex_ = sp > 0 ? k_ / (2 * sp) : std::numeric_limits<double>::infinity();
   }
 
-  double yield(const Vec3& s) const { return dot(plane_.a, s) - k_; }
+  double yield(const Vec3& s) const { return dot(surfaces_[plane].a, s) - k_; }
   bool admissible(const Vec3& s, double tol) const { return yield(s) <= tol && s[0] <= tension_ + tol; }
 
-  // The stress on the yield surface the trial stress returns to.
-  Vec3 operator()(const Vec3& trial, double tol) const {
-    const Vec3 s = yield(trial) > tol ? mohr_coulomb(trial, tol) : trial;
-    if (s[0] <= tension_ + tol) return s;  // the cone alone, or an elastic trial beyond the cut-off only
+  // The stress on the yield surface the trial stress returns to, and the
+  // planes it ended on.
+  Returned operator()(const Vec3& trial, double tol) const {
+    if (admissible(trial, tol)) return {trial, 0, {}};
+    if (yield(trial) > tol) {
+      const Returned r = mohr_coulomb(trial, tol);
+      if (r.stress[0] <= tension_ + tol) return r;  // the cone alone
+    }
     return with_cut_off(trial, tol);
   }
+
+  // d s / d e_trial, the principal stresses' derivatives by the principal
+  // (trial) strains, 3x3 row-major, for the return r: the elastic stiffness
+  // projected off the active planes, (I - D B A^-1 A') D with B the plastic
+  // potentials' gradients, A the yield functions' and A_ij = a_i . D b_j.
+  // Three active planes fix all three principal stresses: zero.
+  std::array<double, 9> principal_tangent(const Returned& r) const {
+    std::array<double, 9> E{};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) E[i * 3 + j] = lambda_ + (i == j ? 2 * G_ : 0.0);
+    if (r.active == 0) return E;
+    if (r.active == 3) return {};
+    const int n = r.active;
+    Vec3 Db[2];
+    double A[3][3] = {};
+    for (int j = 0; j < n; ++j) Db[j] = stiffness(surfaces_[r.ids[j]].b);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) A[i][j] = dot(surfaces_[r.ids[i]].a, Db[j]);
+    double inv[2][2];
+    if (n == 1) {
+      inv[0][0] = 1 / A[0][0];
+    } else {
+      const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+      inv[0][0] = A[1][1] / det, inv[0][1] = -A[0][1] / det, inv[1][0] = -A[1][0] / det, inv[1][1] = A[0][0] / det;
+    }
+    // P = I - sum_ij Db_i inv_ij a_j', then P E.
+    double P[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int row = 0; row < 3; ++row)
+          for (int col = 0; col < 3; ++col) P[row][col] -= Db[i][row] * inv[i][j] * surfaces_[r.ids[j]].a[col];
+    std::array<double, 9> D{};
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col)
+        for (int k = 0; k < 3; ++k) D[row * 3 + col] += P[row][k] * E[k * 3 + col];
+    return D;
+  }
+
  private:
   struct Surface {
-    Vec3 a, b;  // gradients of the yield function and of the plastic potential
+    Vec3 a, b;     // gradients of the yield function and of the plastic potential
+    double limit;  // a . s <= limit
   };
 
   Vec3 stiffness(const Vec3& v) const {  // D v, the isotropic elastic stiffness in principal axes
@@ -57,27 +118,28 @@ class MohrCoulombReturn {
     return {2 * G_ * v[0] + tr, 2 * G_ * v[1] + tr, 2 * G_ * v[2] + tr};
   }
 
-  Vec3 mohr_coulomb(const Vec3& trial, double tol) const {
+  Returned mohr_coulomb(const Vec3& trial, double tol) const {
     // 1. The plane: one multiplier.
-    const Vec3 Db = stiffness(plane_.b);
-    const double dl = yield(trial) / dot(plane_.a, Db);
+    const Vec3 Db = stiffness(surfaces_[plane].b);
+    const double dl = yield(trial) / dot(surfaces_[plane].a, Db);
     const Vec3 s = {trial[0] - dl * Db[0], trial[1] - dl * Db[1], trial[2] - dl * Db[2]};
-    if (s[0] >= s[1] - tol && s[1] >= s[2] - tol) return s;
+    if (s[0] >= s[1] - tol && s[1] >= s[2] - tol) return {s, 1, {plane}};
     // 2. An edge: the plane and its neighbour across the violated ordering.
-    const Surface& other = s[0] < s[1] ? compression_edge_ : extension_edge_;
+    const SurfaceId other = s[0] < s[1] ? compression_edge : extension_edge;
     Vec3 edge;
-    if (on_edge(trial, other, edge, tol)) return edge;
+    if (on_edge(trial, surfaces_[other], edge, tol)) return {edge, 2, {plane, other}};
     // 3. The apex (none for phi = 0: the edges of Tresca never meet).
-    if (std::isfinite(apex_)) return {apex_, apex_, apex_};
-    return edge;
+    if (std::isfinite(apex_)) return {{apex_, apex_, apex_}, 3, {plane, extension_edge, compression_edge}};
+    return {edge, 2, {plane, other}};
   }
 
   // Two active surfaces: f_i(trial - D (dl_1 b_1 + dl_2 b_2)) = 0, both
   // multipliers non-negative and the result still ordered.
   bool on_edge(const Vec3& trial, const Surface& other, Vec3& out, double tol) const {
-    const Vec3 D1 = stiffness(plane_.b), D2 = stiffness(other.b);
-    const double a11 = dot(plane_.a, D1), a12 = dot(plane_.a, D2), a21 = dot(other.a, D1), a22 = dot(other.a, D2);
-    const double f1 = dot(plane_.a, trial) - k_, f2 = dot(other.a, trial) - k_;
+    const Surface& main = surfaces_[plane];
+    const Vec3 D1 = stiffness(main.b), D2 = stiffness(other.b);
+    const double a11 = dot(main.a, D1), a12 = dot(main.a, D2), a21 = dot(other.a, D1), a22 = dot(other.a, D2);
+    const double f1 = dot(main.a, trial) - k_, f2 = dot(other.a, trial) - k_;
     const double det = a11 * a22 - a12 * a21;
     const double l1 = (f1 * a22 - f2 * a12) / det, l2 = (a11 * f2 - a21 * f1) / det;
     for (int i = 0; i < 3; ++i) out[i] = trial[i] - l1 * D1[i] - l2 * D2[i];
@@ -91,24 +153,21 @@ class MohrCoulombReturn {
   // the Kuhn-Tucker conditions (multipliers >= 0, every surface satisfied,
   // the order kept). At most 41 small linear solves, only for the points
   // the cut-off reaches.
-  Vec3 with_cut_off(const Vec3& trial, double tol) const {
+  Returned with_cut_off(const Vec3& trial, double tol) const {
     const double t = tension_;
-    const Surface R1{{1, 0, 0}, {1, 0, 0}}, R2{{0, 1, 0}, {0, 1, 0}}, R3{{0, 0, 1}, {0, 0, 1}};
-    const Surface* all[6] = {&plane_, &extension_edge_, &compression_edge_, &R1, &R2, &R3};
-    const double limit[6] = {k_, k_, k_, t, t, t};
     for (int size = 1; size <= 3; ++size) {
-      for (int mask = 1; mask < 64; ++mask) {
+      for (int mask = 1; mask < (1 << surface_count); ++mask) {
         if (__builtin_popcount(mask) != size) continue;
         int ids[3], n = 0;
-        for (int i = 0; i < 6; ++i)
+        for (int i = 0; i < surface_count; ++i)
           if (mask & (1 << i)) ids[n++] = i;
         // Solve sum_j (a_i . D b_j) dl_j = f_i(trial) for the active i.
         double A[3][3] = {}, rhs[3] = {}, dl[3] = {};
         Vec3 Db[3];
-        for (int j = 0; j < n; ++j) Db[j] = stiffness(all[ids[j]]->b);
+        for (int j = 0; j < n; ++j) Db[j] = stiffness(surfaces_[ids[j]].b);
         for (int i = 0; i < n; ++i) {
-          rhs[i] = dot(all[ids[i]]->a, trial) - limit[ids[i]];
-          for (int j = 0; j < n; ++j) A[i][j] = dot(all[ids[i]]->a, Db[j]);
+          rhs[i] = dot(surfaces_[ids[i]].a, trial) - surfaces_[ids[i]].limit;
+          for (int j = 0; j < n; ++j) A[i][j] = dot(surfaces_[ids[i]].a, Db[j]);
         }
         if (!solve(n, A, rhs, dl)) continue;
         bool ok = true;
@@ -118,10 +177,11 @@ class MohrCoulombReturn {
         for (int j = 0; j < n; ++j)
           for (int c = 0; c < 3; ++c) s[c] -= dl[j] * Db[j][c];
         ok = s[0] >= s[1] - tol && s[1] >= s[2] - tol && yield(s) <= tol && s[0] <= t + tol;
-        if (ok) return s;
+        if (ok) return {s, n, {ids[0], n > 1 ? ids[1] : 0, n > 2 ? ids[2] : 0}};
       }
     }
-    return {t, t, t};  // not reached for psi <= phi; the most tensile admissible state
+    // Not reached for psi <= phi; the most tensile admissible state.
+    return {{t, t, t}, 3, {cut_off_1, cut_off_2, cut_off_3}};
   }
 
   // Gaussian elimination with partial pivoting, n <= 3; false if singular.
@@ -151,7 +211,7 @@ class MohrCoulombReturn {
   }
 
   double G_, lambda_, sin_phi_, k_, tension_, apex_;
-  Surface plane_, compression_edge_, extension_edge_;
+  Surface surfaces_[surface_count];
 };
 
 constexpr double degree = 3.14159265358979323846 / 180;
@@ -212,14 +272,27 @@ class MohrCoulomb final : public suffuse::Phase {
     plastic_strain_ =
         points.add_field({"plastic_strain", K::SymmetricTensor, "-", "accumulated plastic strain (Mohr-Coulomb)", true});
     yielding_ = points.add_field({"yielding", K::Scalar, "-", "1 where the last step was plastic, else 0", true});
+    trial_stress_ = points.add_field(
+        {"mohr_coulomb_trial_stress", K::SymmetricTensor, "Pa", "the elastic trial stress of the last plastic step", false});
   }
 
-  // The elastic stiffness: the quasi-static iterations then converge on the
-  // returned stresses (the initial-stiffness method, robust at the perfectly
-  // plastic limit where a consistent tangent turns singular).
+  // The consistent tangent of the return each point made in its last update
+  // (Clausen, Damkilde & Andersen 2007; the spin of the principal axes as in
+  // de Souza Neto, Peric & Owen 2008, section A.5): with it the quasi-static
+  // Newton iterations converge quadratically where points yield. It is not
+  // symmetric for psi < phi; at the apex it is zero (the core then holds the
+  // point's nodes by its creep term).
   bool tangent(const suffuse::StressBatch& batch, std::span<double> stiffness) const override {
-    for (std::size_t k = 0; k < batch.range.size(); ++k)
-      suffuse::tensor::isotropic_stiffness(lambda_ + 2 * G_ / 3, G_, stiffness.data() + k * 36);
+    const suffuse::PointSet& pts = batch.points;
+    const double* yielding = pts.data(yielding_);
+    const double* trial = pts.data(trial_stress_);
+    for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
+      double* D = stiffness.data() + (p - batch.range.begin) * 36;
+      if (yielding[p] == 0)
+        suffuse::tensor::isotropic_stiffness(lambda_ + 2 * G_ / 3, G_, D);
+      else
+        plastic_tangent(suffuse::tensor::to_matrix(trial + p * 6), D);
+    }
     return true;
   }
   void update_stress(const suffuse::StressBatch& batch) const override {
@@ -236,6 +309,25 @@ class MohrCoulomb final : public suffuse::Phase {
     return phi > 0 ? p.number("cohesion") * std::cos(phi) / std::sin(phi) : std::numeric_limits<double>::infinity();
   }
 
+  // The principal stresses of s, sorted s1 >= s2 >= s3, and their axes (column a for s_a).
+  struct PrincipalAxes {
+    Vec3 values;
+    Eigen::Matrix3d axes;
+    double tolerance;  // of the return, relative to the stress and the cohesion
+  };
+  PrincipalAxes principal_axes(const suffuse::tensor::Matrix& s) const {
+    Eigen::Matrix3d m;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m(i, j) = s[i][j];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(m);  // ascending eigenvalues
+    PrincipalAxes out;
+    out.values = {eig.eigenvalues()(2), eig.eigenvalues()(1), eig.eigenvalues()(0)};
+    out.axes = eig.eigenvectors().rowwise().reverse();
+    out.tolerance = 1e-12 * (std::abs(out.values[0]) + std::abs(out.values[2]) + cohesion_);
+    return out;
+  }
+
   template <int D>
   void update(const suffuse::StressBatch& batch) const {
     namespace t = suffuse::tensor;
@@ -243,24 +335,21 @@ class MohrCoulomb final : public suffuse::Phase {
     double* stress = pts.data(pts.core().stress);
     double* plastic = pts.data(plastic_strain_);
     double* yielding = pts.data(yielding_);
+    double* trial_stress = pts.data(trial_stress_);
     const suffuse::StepIncrements<D> increments(batch);
     for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
       const auto [d, w] = increments(p);
       double* s6 = stress + p * 6;
       const t::Matrix trial = t::jaumann_elastic_increment(t::to_matrix(s6), d, w, G_, lambda_);
-      Eigen::Matrix3d m;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) m(i, j) = trial[i][j];
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-      eig.computeDirect(m);  // ascending eigenvalues
-      const Vec3 principal = {eig.eigenvalues()(2), eig.eigenvalues()(1), eig.eigenvalues()(0)};
-      const double tol = 1e-12 * (std::abs(principal[0]) + std::abs(principal[2]) + cohesion_);
-      if (return_.admissible(principal, tol)) {
+      const PrincipalAxes pa = principal_axes(trial);
+      const Vec3& principal = pa.values;
+      if (return_.admissible(principal, pa.tolerance)) {
         t::store(trial, s6);
         yielding[p] = 0;
         continue;
       }
-      const Vec3 s = return_(principal, tol);
+      t::store(trial, trial_stress + p * 6);
+      const Vec3 s = return_(principal, pa.tolerance).stress;
       // Back to the axes of the trial stress; the plastic strain is D^-1 of the stress removed.
       const Vec3 removed = {principal[0] - s[0], principal[1] - s[1], principal[2] - s[2]};
       const double tr = removed[0] + removed[1] + removed[2];
@@ -268,7 +357,7 @@ class MohrCoulomb final : public suffuse::Phase {
       for (int i = 0; i < 3; ++i) de[i] = ((1 + nu_) * removed[i] - nu_ * tr) / E_;
       t::Matrix next{}, dep{};
       for (int a = 0; a < 3; ++a) {
-        const auto v = eig.eigenvectors().col(2 - a);
+        const auto v = pa.axes.col(a);
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) {
             next[i][j] += s[a] * v(i) * v(j);
@@ -283,9 +372,45 @@ class MohrCoulomb final : public suffuse::Phase {
     }
   }
 
+  // The derivative of the returned stress by the strain increment, 6x6 in
+  // the form Phase::tangent returns, from the trial stress. In the principal
+  // axes the normal components follow principal_tangent; a shear component
+  // ab turns the axes, and the stress follows with the modulus
+  // G (s_a - s_b) / (s_a^trial - s_b^trial) (its limit where the trial's
+  // s_a = s_b).
+  void plastic_tangent(const suffuse::tensor::Matrix& trial, double* D) const {
+    const PrincipalAxes pa = principal_axes(trial);
+    const auto r = return_(pa.values, pa.tolerance);
+    const std::array<double, 9> Dp = return_.principal_tangent(r);
+    double shear[3][3] = {};
+    for (int a = 0; a < 3; ++a)
+      for (int b = a + 1; b < 3; ++b) {
+        const double gap = pa.values[a] - pa.values[b];
+        shear[a][b] = shear[b][a] = gap > 1e-9 * (std::abs(pa.values[a]) + std::abs(pa.values[b]) + cohesion_)
+                                        ? G_ * (r.stress[a] - r.stress[b]) / gap
+                                        : (Dp[a * 3 + a] - Dp[a * 3 + b] - Dp[b * 3 + a] + Dp[b * 3 + b]) / 4;
+      }
+    static constexpr int first[6] = {0, 1, 2, 1, 0, 0}, second[6] = {0, 1, 2, 2, 2, 1};
+    const Eigen::Matrix3d& v = pa.axes;
+    for (int c = 0; c < 6; ++c) {
+      // A unit engineering strain of component c, in the principal axes.
+      const int i = first[c], j = second[c];
+      Eigen::Matrix3d e;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) e(a, b) = i == j ? v(i, a) * v(i, b) : 0.5 * (v(i, a) * v(j, b) + v(j, a) * v(i, b));
+      Eigen::Matrix3d ds;  // the stress it gives, in the principal axes
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          ds(a, b) = a == b ? Dp[a * 3] * e(0, 0) + Dp[a * 3 + 1] * e(1, 1) + Dp[a * 3 + 2] * e(2, 2)
+                            : 2 * shear[a][b] * e(a, b);
+      const Eigen::Matrix3d global = v * ds * v.transpose();
+      for (int row = 0; row < 6; ++row) D[row * 6 + c] = global(first[row], second[row]);
+    }
+  }
+
   double rho_, nu_, E_, G_, lambda_, cohesion_;
   MohrCoulombReturn return_;
-  suffuse::FieldId plastic_strain_ = 0, yielding_ = 0;
+  suffuse::FieldId plastic_strain_ = 0, yielding_ = 0, trial_stress_ = 0;
 };
 
 }  // namespace
