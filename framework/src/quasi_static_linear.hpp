@@ -1,0 +1,44 @@
+// The sparse system of a quasi-static step and its factorisation (private to
+// quasi_static.cpp and quasi_static_assembly.cpp).
+#pragma once
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#include <vector>
+
+#include "quasi_static.hpp"
+
+namespace suffuse::detail {
+
+struct QuasiStatic::Linear {
+  using Matrix = Eigen::SparseMatrix<double>;
+  std::vector<Eigen::Triplet<double>> triplets;
+  Matrix matrix;
+  Eigen::VectorXd scale;  // symmetric diagonal scaling: the blocks differ by many orders of magnitude
+  // Symmetric tangents: LDL' (half the work and memory of LU). A tangent
+  // that is not symmetric (Mohr-Coulomb's with psi < phi): LU.
+  bool symmetric = true;
+  Eigen::SimplicialLDLT<Matrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  Eigen::SparseLU<Matrix, Eigen::COLAMDOrdering<int>> lu;
+  // The pattern is that of the step (QuasiStatic::prepare_blocks): its
+  // ordering and symbolic analysis are done once per step and solver.
+  bool ldlt_analysed = false, lu_analysed = false;
+
+  bool factorise() {
+    if (symmetric && !ldlt_analysed) ldlt.analyzePattern(matrix), ldlt_analysed = true;
+    if (!symmetric && !lu_analysed) lu.analyzePattern(matrix), lu_analysed = true;
+    if (symmetric) {
+      ldlt.factorize(matrix);
+      return ldlt.info() == Eigen::Success;
+    }
+    lu.factorize(matrix);
+    return lu.info() == Eigen::Success;
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
+    const Eigen::VectorXd scaled = scale.asDiagonal() * rhs;
+    return scale.asDiagonal() * (symmetric ? Eigen::VectorXd(ldlt.solve(scaled)) : Eigen::VectorXd(lu.solve(scaled)));
+  }
+};
+
+}  // namespace suffuse::detail
