@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <sstream>
 #include <suffuse/plugin_loader.hpp>
@@ -205,6 +206,37 @@ TEST(QuasiStatic, DrySelfWeightColumn) {
   EXPECT_NEAR(settlement / exact, 1.0, 1e-3) << "surface settlement";
   RecordProperty("stress_error", text(worst));
   RecordProperty("settlement_ratio", text(settlement / exact));
+}
+
+// A cohesionless column free on one side has no static equilibrium: the run
+// stops with an error that says where the forces did not balance (a node on
+// the column) and which points had no stiffness (the sand at the apex of
+// its cone: c = 0, so wherever it is unconfined).
+TEST(QuasiStatic, NoEquilibriumSaysWhere) {
+  auto j = quasi_static(read_json(source_dir() / "share/scenes/column_collapse_mc.json"), 0.1);
+  j["time"]["end"] = 0.5;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  std::string message;
+  try {
+    sim.run({});
+  } catch (const suffuse::Error& e) {
+    message = e.what();
+  }
+  ASSERT_NE(message.find("no equilibrium"), std::string::npos) << message;
+  const std::string at = "is at the node (";
+  const auto k = message.find(at);
+  ASSERT_NE(k, std::string::npos) << message;
+  double x = -1, y = -1;
+  ASSERT_EQ(std::sscanf(message.c_str() + k + at.size(), "%lf, %lf", &x, &y), 2) << message;
+  const double h = 0.05, width = j["bodies"][0]["max"][0], height = j["bodies"][0]["max"][1];
+  EXPECT_GE(x, 0.0);
+  EXPECT_LE(x, width + h) << "the node is on the column";
+  EXPECT_GE(y, 0.0);
+  EXPECT_LE(y, height + h) << "the node is on the column";
+  EXPECT_NE(message.find("had no stiffness at the last iteration"), std::string::npos) << message;
+  EXPECT_EQ(sim.steps(), 0u) << "no step converged";
 }
 
 // The default suffusion column, quasi-static (share/scenes/suffusion_column_1h.json

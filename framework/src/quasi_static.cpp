@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "quasi_static_linear.hpp"
@@ -277,6 +278,7 @@ double QuasiStatic::evaluate(double dt) {
 // Newton iterations on the true stresses, the matrix from the phases'
 // tangents at each iterate (a cohesionless point that separates has none).
 std::optional<int> QuasiStatic::solve(double time, double dt) {
+  failure_.clear();
   prepare(time, dt);
   prepare_blocks();
   residual_.assign(equations_, 0.0);
@@ -328,8 +330,54 @@ bool QuasiStatic::newton(double dt, int& iterations) {
       alpha /= 2;
     }
   }
+  describe_failure();
   restore_state();
   return false;
+}
+
+void QuasiStatic::describe_failure() {
+  const int dim = d_.dim();
+  std::size_t worst = 0;
+  double largest = -1;
+  for (std::size_t k = 0; k < u_dof_.size(); ++k)
+    if (u_dof_[k] >= 0 && std::abs(residual_[static_cast<std::size_t>(u_dof_[k])]) > largest)
+      largest = std::abs(residual_[static_cast<std::size_t>(u_dof_[k])]), worst = k;
+  std::ostringstream out;
+  out.precision(3);
+  auto position = [&](const double* x) {
+    out << "(";
+    for (int a = 0; a < dim; ++a) out << (a ? ", " : "") << x[a];
+    out << ") m";
+  };
+  if (largest >= 0 && std::isfinite(largest)) {
+    const auto node = d_.grid.node_position(static_cast<std::int64_t>(worst / static_cast<std::size_t>(dim)));
+    out << "the largest out-of-balance force, " << largest << (dim == 2 ? " N/m" : " N") << " ("
+        << largest / force_scale_ << " of the forces; /time/newton_tolerance " << scene_.quasi_static.newton_tolerance
+        << "), is at the node ";
+    position(node.data());
+  }
+  // Points whose tangent is zero: at the apex of a yield surface, or separated.
+  const double* x = d_.points.data(d_.points.core().position);
+  std::size_t stiffless = 0;
+  std::array<double, 3> lo{}, hi{};
+  for (std::size_t p = 0; p < d_.points.size() && tangent_.size() >= (p + 1) * 36; ++p) {
+    const double* D = &tangent_[p * 36];
+    if (D[0] != 0 || D[7] != 0 || D[14] != 0 || D[35] != 0) continue;
+    for (int a = 0; a < dim; ++a) {
+      const double v = x[p * dim + a];
+      lo[a] = stiffless ? std::min(lo[a], v) : v;
+      hi[a] = stiffless ? std::max(hi[a], v) : v;
+    }
+    ++stiffless;
+  }
+  if (stiffless > 0) {
+    out << "; " << stiffless << " material point" << (stiffless > 1 ? "s" : "")
+        << " had no stiffness at the last iteration (a stress at the apex of the yield surface, or separated), between ";
+    position(lo.data());
+    out << " and ";
+    position(hi.data());
+  }
+  failure_ = out.str();
 }
 
 void QuasiStatic::update_points(double dt) {

@@ -36,6 +36,7 @@
 // cell without saturated points) is drained, p = 0, as in explicit runs.
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "domain.hpp"
@@ -60,6 +61,11 @@ class QuasiStatic {
   // increments; strain, volume, porosity, pore pressure and Darcy flux
   // follow (the nodal Darcy flux too, for the transport).
   void update_points(double dt);
+  // Where the last solve that did not converge stood, for the error that
+  // stops the run: the node with the largest out-of-balance force, and the
+  // points without stiffness at the last iteration (empty after a
+  // converged solve).
+  const std::string& failure() const { return failure_; }
   // The largest sum over the axes of |q_i| / (n h_i) at the points [1/s]:
   // a transport substep of Courant number C lasts C over it.
   double transport_rate() const;
@@ -76,6 +82,7 @@ class QuasiStatic {
   bool newton(double dt, int& iterations);
   void prepare_blocks();  // the node pairs the matrix couples, after prepare
   void assemble(double dt);  // the matrix, from the tangents at the iterate
+  void describe_failure();  // failure_, from the last iterate
 
   const Scene& scene_;
   Domain& d_;
@@ -118,6 +125,7 @@ class QuasiStatic {
   std::vector<double> modulus_;              // per material: the P-wave modulus, for the creep term
   double force_scale_ = 0;
   std::size_t equations_ = 0;
+  std::string failure_;
 };
 
 }  // namespace suffuse::detail

@@ -261,7 +261,8 @@ void Simulation::step_quasi_static() {
       throw Error("step " + std::to_string(n + 1) + " (t = " + detail::format(t) +
                   " s): no equilibrium within /time/max_iterations = " + std::to_string(control.max_iterations) +
                   " iterations, even after halving the step to " + detail::format(dt) +
-                  " s: the soil may be failing (a collapse has no quasi-static path; run it explicit)");
+                  " s: the soil may be failing (a collapse has no quasi-static path; run it explicit)" +
+                  (quasi_static_->failure().empty() ? "" : ". At the last attempt " + quasi_static_->failure()));
     dt /= 2;
     clock_.set_step(dt);
   }
