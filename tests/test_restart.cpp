@@ -187,6 +187,23 @@ TEST_F(RestartRefused, DamagedOrTruncatedOrNotACheckpoint) {
   EXPECT_NE(restart_error(j, dir_ / "missing.checkpoint").find("no such file"), std::string::npos);
 }
 
+// A dry scene with no outputs writes nothing else, so nothing has made its
+// output directory when the checkpoint at the end is due (the run failed
+// there, after its last step).
+TEST(Checkpoint, WrittenWhereNothingElseIs) {
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  j["outputs"] = nlohmann::json::array();
+  j["time"]["end"] = 1e-4;
+  suffuse::Registry registry;
+  suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  scene.name = "bar";
+  suffuse::Simulation sim(scene, registry, 1);
+  suffuse::RunOptions options;
+  options.output_dir = fresh_dir("no_outputs") / "nested";
+  ASSERT_NO_THROW(sim.run(options));
+  EXPECT_TRUE(fs::exists(options.output_dir / "bar.checkpoint"));
+}
+
 // Extending a finished run: a later end time alone is allowed, the ledger
 // continues and still closes.
 TEST_F(RestartRefused, ALaterEndTimeExtendsTheRun) {

@@ -70,6 +70,9 @@ void Simulation::save_checkpoint(const std::filesystem::path& file, const std::v
   bytes.append(reinterpret_cast<const char*>(&hash), sizeof hash);
   const std::filesystem::path tmp = file.string() + ".part";
   {
+    // A scene with nothing else to write has not made its output directory.
+    std::error_code ignored;
+    if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ignored);
     std::ofstream out(tmp, std::ios::binary);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (!out) throw Error("cannot write the checkpoint " + file.string());
