@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "executor.hpp"
 #include "quasi_static_linear.hpp"
 #include "solid_kernels.hpp"
 #include "suffuse/error.hpp"
@@ -111,7 +112,18 @@ void QuasiStatic::prepare(double time, double dt) {
     bc->apply_forces(d_.grid, probe_, t1);
     bc->apply_point_forces(d_.grid, pts, probe_, t1);
   }
-  for (const auto& bc : bcs_) bc->constrain_velocity(d_.grid, probe_, t1);
+  held_.assign(bcs_.size(), {});
+  for (std::size_t b = 0; b < bcs_.size(); ++b) {
+    const bool recorded = std::any_of(scene_.reactions.begin(), scene_.reactions.end(),
+                                      [&](const ReactionSpec& r) { return r.condition == b; });
+    if (recorded) velocity_before_.assign(probe_.velocity.begin(), probe_.velocity.end());
+    bcs_[b]->constrain_velocity(d_.grid, probe_, t1);
+    if (!recorded) continue;
+    for (std::size_t k = 0; k < probe_.velocity.size(); ++k) {
+      const double before = velocity_before_[k], after = probe_.velocity[k];
+      if (!std::isnan(after) && (std::isnan(before) || before != after)) held_[b].push_back(k);
+    }
+  }
   for (std::size_t k = 0; k < f_ext_.size(); ++k) f_ext_[k] += probe_.force[k];
 
   // Displacement unknowns: components of nodes with mass, unless constrained.
@@ -333,6 +345,25 @@ bool QuasiStatic::newton(double dt, int& iterations) {
   describe_failure();
   restore_state();
   return false;
+}
+
+QuasiStatic::Held QuasiStatic::held_by(std::size_t b) const {
+  const auto dim = static_cast<std::size_t>(d_.dim());
+  Held held;
+  std::array<double, 3> mass{}, moved{};
+  for (const std::size_t k : held_[b]) {
+    const std::size_t I = k / dim, i = k % dim;
+    if (node_mass_[I] <= 0) continue;
+    held.force[i] += f_int_[k] - f_ext_[k];
+    mass[i] += node_mass_[I];
+    moved[i] += node_mass_[I] * du_[k];
+  }
+  for (std::size_t i = 0; i < dim; ++i) {
+    held.force[i] = global_sum(held.force[i]);
+    const double m = global_sum(mass[i]);
+    if (m > 0) held.displacement[i] = global_sum(moved[i]) / m;
+  }
+  return held;
 }
 
 void QuasiStatic::describe_failure() {

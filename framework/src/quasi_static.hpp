@@ -34,6 +34,7 @@
 // -p n A) or brings the flux it constrains (bc/inflow_flux); grid faces
 // closed to the liquid are impermeable; a free surface (a node next to a
 // cell without saturated points) is drained, p = 0, as in explicit runs.
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -61,6 +62,15 @@ class QuasiStatic {
   // increments; strain, volume, porosity, pore pressure and Darcy flux
   // follow (the nodal Darcy flux too, for the transport).
   void update_points(double dt);
+  // What boundary condition `b` (one whose reaction the scene records) does
+  // at the last converged equilibrium: the force its velocity constraints
+  // exert on the soil, f_int - f_ext summed over the components it holds
+  // (the total force in saturated runs), and the mass-weighted mean
+  // displacement increment it imposed there.
+  struct Held {
+    std::array<double, 3> force{}, displacement{};
+  };
+  Held held_by(std::size_t b) const;
   // Where the last solve that did not converge stood, for the error that
   // stops the run: the node with the largest out-of-balance force, and the
   // points without stiffness at the last iteration (empty after a
@@ -113,6 +123,9 @@ class QuasiStatic {
     double outward, area;
   };
   std::vector<FaceFlux> face_flux_;
+  // Per condition whose reaction is recorded: the node components it constrains.
+  std::vector<std::vector<std::size_t>> held_;
+  std::vector<double> velocity_before_;  // the probe before such a condition constrains it
   // The matrix in blocks (prepare_blocks): per node with an unknown and per
   // slot of the stencil around it, (dim + 1)^2 values.
   std::vector<int> point_nodes_ijk_;         // 3 per point and support node

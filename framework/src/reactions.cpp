@@ -51,6 +51,16 @@ void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, const Grid
   record->elapsed += dt;
 }
 
+void Reactions::add_equilibrium(std::size_t r, const std::array<double, 3>& force,
+                                const std::array<double, 3>& displacement, double dt) {
+  Record& record = records_[r];
+  for (int i = 0; i < dim_; ++i) {
+    record.impulse[i] += force[i] * dt;
+    record.displacement[i] += displacement[i];
+  }
+  record.elapsed += dt;
+}
+
 void Reactions::write_header(std::ostream& out) const {
   const char* axes = "xyz";
   const std::string force_unit = dim_ == 2 ? "N/m" : "N";

@@ -16,7 +16,10 @@
 // The displacement along an axis is the time integral of the mass-weighted
 // mean velocity of the nodes whose velocity the condition changed along it.
 // Two conditions that hold the same component of a node both count its
-// reaction there. In saturated runs the skeleton's nodal force is the
+// reaction there. Quasi-static steps give the force of their end-of-step
+// equilibrium, R = f_int - f_ext at the components the condition holds
+// (QuasiStatic::held_by), held over the step: a row is then the mean over
+// the steps since the previous row, weighted by their lengths. In saturated runs the skeleton's nodal force is the
 // mixture's (effective stress and pore pressure): the reaction is the total
 // force on the soil.
 #include <array>
@@ -40,6 +43,13 @@ class Reactions {
   // recorded, what it changed over the step `dt` is measured.
   void constrain(std::size_t b, const BoundaryCondition& bc, const GridGeometry& grid, NodeState& nodes,
                  double time, double dt);
+
+  // Quasi-static steps: record r's condition held the soil with `force` at
+  // the step's equilibrium and moved it by `displacement` over the step.
+  std::size_t size() const { return records_.size(); }
+  std::size_t condition(std::size_t r) const { return records_[r].condition; }
+  void add_equilibrium(std::size_t r, const std::array<double, 3>& force, const std::array<double, 3>& displacement,
+                       double dt);
 
   // CSV: "time [s]", then per recorded condition its force components (the
   // mean over the steps since the previous row) and its displacement now.

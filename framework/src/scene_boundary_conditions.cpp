@@ -37,12 +37,6 @@ void read_boundary_conditions(SceneReader& r, Scene& scene) {
       if (!core_keys.count(k)) others.insert(k);
     const Parameters c = validate_object(bcs[i], core, ptr, "core (boundary condition)", r.dim, r.diags, others);
     if (!c.has("reaction")) continue;
-    if (scene.integration == TimeIntegration::quasi_static) {
-      // Reactions are measured from the explicit step's velocity changes.
-      r.error(ptr + "/reaction", "a reaction in a quasi-static run", "no reaction (not measured by quasi-static "
-              "integration yet: run the scene explicit)", "\"" + c.string("reaction") + "\"", "core (boundary condition)");
-      continue;
-    }
     const std::string& name = c.string("reaction");
     const bool taken = std::any_of(scene.reactions.begin(), scene.reactions.end(),
                                    [&](const ReactionSpec& s) { return s.name == name; });

@@ -266,6 +266,10 @@ void Simulation::step_quasi_static() {
     dt /= 2;
     clock_.set_step(dt);
   }
+  for (std::size_t r = 0; r < reactions_->size(); ++r) {
+    const auto held = quasi_static_->held_by(reactions_->condition(r));
+    reactions_->add_equilibrium(r, held.force, held.displacement, dt);
+  }
   timed(Stage::g2p, [&] { quasi_static_->update_points(dt); });  // positions, strain, porosity, p, Darcy flux
   double transport_dt = dt;
   if (species_) {
