@@ -106,8 +106,9 @@ TEST_P(Restart, ContinuesBitForBitAndItsOutputsContinue) {
   EXPECT_FALSE(fs::exists(b_dir / (name + "_000011.vtp")));
   // 200 rows by default (a quasi-static run may have fewer steps than rows:
   // its file is then compared with run A's above only).
-  if (a.steps() > 1000)
+  if (a.steps() > 1000) {
     EXPECT_EQ(suffuse::test::read_csv(b_dir / (name + ".all.csv")).rows.size(), 201u) << "the probe's rows";
+  }
   // The final checkpoint of both runs holds the same state.
   EXPECT_EQ(slurp(b_dir / (name + ".checkpoint")), slurp(a_dir / (name + ".checkpoint")));
 }
