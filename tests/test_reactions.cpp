@@ -39,24 +39,34 @@ Table run_for_reactions(nlohmann::json j, const std::string& name, int threads =
 
 // An elastic column 0.2 m wide and 1 m high between rollers, its top pushed
 // down at 1 cm/s: oedometric compression, so both the top's reaction and the
-// base's are M eps w, M the constrained modulus; the top moved v t. With
-// local damping 0.1, which the reactions leave out.
+// base's are M eps w, M the constrained modulus; the top moved v t.
+constexpr double oedometer_E = 1e7, oedometer_nu = 0.3, oedometer_v = 0.01, oedometer_w = 0.2;
+constexpr double oedometer_M =
+    oedometer_E * (1 - oedometer_nu) / ((1 + oedometer_nu) * (1 - 2 * oedometer_nu));
+nlohmann::json oedometer(const nlohmann::json& time) {
+  return {{"dimension", 2},
+          {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {0.05, 0.05}}, {"cells", {4, 20}}}},
+          {"shape_function", {{"type", "shape/linear"}}},
+          {"materials",
+           {{"soil",
+             {{"type", "phase/linear_elastic"},
+              {"density", 2000.0},
+              {"youngs_modulus", oedometer_E},
+              {"poisson_ratio", oedometer_nu}}}}},
+          {"bodies", {{{"name", "column"}, {"material", "soil"}, {"min", {0.0, 0.0}}, {"max", {oedometer_w, 1.0}}}}},
+          {"boundary_conditions",
+           {{{"type", "bc/velocity"}, {"face", "top"}, {"vy", -oedometer_v}, {"reaction", "top"}},
+            {{"type", "bc/velocity"}, {"face", "bottom"}, {"vy", 0.0}, {"reaction", "base"}},
+            {{"type", "bc/velocity"}, {"face", "left"}, {"vx", 0.0}},
+            {{"type", "bc/velocity"}, {"face", "right"}, {"vx", 0.0}}}},
+          {"time", time}};
+}
+
+// Explicit, with local damping 0.1, which the reactions leave out.
 TEST(Reactions, OedometricColumnCarriesTheConstrainedModulus) {
-  const double E = 1e7, nu = 0.3, M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)), v = 0.01, w = 0.2;
-  const nlohmann::json j = {
-      {"dimension", 2},
-      {"damping", 0.1},
-      {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {0.05, 0.05}}, {"cells", {4, 20}}}},
-      {"shape_function", {{"type", "shape/linear"}}},
-      {"materials",
-       {{"soil", {{"type", "phase/linear_elastic"}, {"density", 2000.0}, {"youngs_modulus", E}, {"poisson_ratio", nu}}}}},
-      {"bodies", {{{"name", "column"}, {"material", "soil"}, {"min", {0.0, 0.0}}, {"max", {w, 1.0}}}}},
-      {"boundary_conditions",
-       {{{"type", "bc/velocity"}, {"face", "top"}, {"vy", -v}, {"reaction", "top"}},
-        {{"type", "bc/velocity"}, {"face", "bottom"}, {"vy", 0.0}, {"reaction", "base"}},
-        {{"type", "bc/velocity"}, {"face", "left"}, {"vx", 0.0}},
-        {{"type", "bc/velocity"}, {"face", "right"}, {"vx", 0.0}}}},
-      {"time", {{"end", 0.5}}}};
+  const double M = oedometer_M, v = oedometer_v, w = oedometer_w;
+  nlohmann::json j = oedometer({{"end", 0.5}});
+  j["damping"] = 0.1;
   for (int threads : {1, 2}) {
     const Table t = run_for_reactions(j, "oedometer_" + std::to_string(threads), threads);
     ASSERT_EQ(t.header.size(), 9u);
@@ -94,20 +104,9 @@ TEST(Reactions, OedometricColumnCarriesTheConstrainedModulus) {
 // column: the updated geometry of the points, as in the explicit run, whose
 // mean is 0.3-0.5% low.)
 TEST(Reactions, QuasiStaticOedometerBalancesAtEveryRow) {
-  const double E = 1e7, nu = 0.3, M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)), v = 0.01, w = 0.2, end = 0.5;
-  const nlohmann::json j = {
-      {"dimension", 2},
-      {"grid", {{"origin", {0.0, 0.0}}, {"cell_size", {0.05, 0.05}}, {"cells", {4, 20}}}},
-      {"shape_function", {{"type", "shape/linear"}}},
-      {"materials",
-       {{"soil", {{"type", "phase/linear_elastic"}, {"density", 2000.0}, {"youngs_modulus", E}, {"poisson_ratio", nu}}}}},
-      {"bodies", {{{"name", "column"}, {"material", "soil"}, {"min", {0.0, 0.0}}, {"max", {w, 1.0}}}}},
-      {"boundary_conditions",
-       {{{"type", "bc/velocity"}, {"face", "top"}, {"vy", -v}, {"reaction", "top"}},
-        {{"type", "bc/velocity"}, {"face", "bottom"}, {"vy", 0.0}, {"reaction", "base"}},
-        {{"type", "bc/velocity"}, {"face", "left"}, {"vx", 0.0}},
-        {{"type", "bc/velocity"}, {"face", "right"}, {"vx", 0.0}}}},
-      {"time", {{"end", end}, {"integration", "quasi_static"}, {"dt", end / 200}, {"max_dt", end / 200}}}};
+  const double M = oedometer_M, v = oedometer_v, w = oedometer_w, end = 0.5;
+  const nlohmann::json j =
+      oedometer({{"end", end}, {"integration", "quasi_static"}, {"dt", end / 200}, {"max_dt", end / 200}});
   const Table t = run_for_reactions(j, "oedometer_quasi_static");
   ASSERT_EQ(t.rows.size(), 200u);
   double worst = 0;
