@@ -392,8 +392,7 @@ void QuasiStatic::describe_failure() {
   std::size_t stiffless = 0;
   std::array<double, 3> lo{}, hi{};
   for (std::size_t p = 0; p < d_.points.size() && tangent_.size() >= (p + 1) * 36; ++p) {
-    const double* D = &tangent_[p * 36];
-    if (D[0] != 0 || D[7] != 0 || D[14] != 0 || D[35] != 0) continue;
+    if (!without_stiffness(&tangent_[p * 36])) continue;
     for (int a = 0; a < dim; ++a) {
       const double v = x[p * dim + a];
       lo[a] = stiffless ? std::min(lo[a], v) : v;

@@ -111,7 +111,7 @@ void QuasiStatic::assemble(double dt) {
   const double* material = pts.data(pts.core().material_id);
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const double* D = &tangent_[p * 36];
-    if (D[0] != 0 || D[7] != 0 || D[14] != 0 || D[35] != 0) continue;
+    if (!without_stiffness(D)) continue;
     const double creep = scene_.quasi_static.creep * V[p] * modulus_[static_cast<std::size_t>(material[p])];
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k = p * s.npp + a;

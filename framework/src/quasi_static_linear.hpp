@@ -11,6 +11,10 @@
 
 namespace suffuse::detail {
 
+// Whether a point's 6x6 tangent is zero (a stress at the apex of a yield
+// surface, a point that separated): the creep term holds its nodes.
+inline bool without_stiffness(const double* D) { return D[0] == 0 && D[7] == 0 && D[14] == 0 && D[35] == 0; }
+
 struct QuasiStatic::Linear {
   using Matrix = Eigen::SparseMatrix<double>;
   std::vector<Eigen::Triplet<double>> triplets;
