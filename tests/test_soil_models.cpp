@@ -32,7 +32,8 @@ struct OnePoint {
     suffuse::PluginLoader loader(registry);
     loader.load_path(suffuse::PluginLoader::bundled_plugin_directory());
     std::map<std::string, suffuse::ParamValue> values;
-    for (const auto& [k, v] : params.items()) values[k] = v.get<double>();
+    for (const auto& [k, v] : params.items())
+      values[k] = v.is_boolean() ? suffuse::ParamValue(v.get<bool>()) : suffuse::ParamValue(v.get<double>());
     const suffuse::Parameters p = registry.find(type)->schema().complete(values);
     phase = registry.create<suffuse::Phase>(type, {p, 3, "/materials/soil"});
     phase->add_fields(points);
@@ -75,6 +76,58 @@ ElementRows element_test(const nlohmann::json& material, double p0, const nlohma
 
 const nlohmann::json sand = {{"density", 2000.0}, {"youngs_modulus", 2e7}, {"poisson_ratio", 0.3},
                              {"friction_angle", 30.0}, {"cohesion", 5e3}, {"dilatancy_angle", 10.0}};
+
+// phase/linear_elastic's tension cut-off: a point whose elastic stress has a
+// tensile principal value carries nothing, any other keeps Hooke's stress.
+// Against an eigensolver on 20,000 random increments from random states,
+// a fifth of them near the boundary (the largest principal stress within
+// 1e-6 of the stresses' scale), and uniaxial states with exact zeros.
+TEST(LinearElastic, TensionCutOffSeparatesExactlyTheTensileStates) {
+  OnePoint cut("phase/linear_elastic",
+               {{"density", 2000.0}, {"youngs_modulus", 1e7}, {"poisson_ratio", 0.3}, {"tension_cutoff", true}});
+  OnePoint hooke("phase/linear_elastic", {{"density", 2000.0}, {"youngs_modulus", 1e7}, {"poisson_ratio", 0.3}});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int separated = 0, kept = 0;
+  for (int c = 0; c < 20000; ++c) {
+    std::array<double, 6> s0{}, de{};
+    for (int k = 0; k < 6; ++k) s0[k] = k < 3 ? 1e5 * (u(rng) - 1.2) : 5e4 * u(rng);
+    for (auto& v : de) v = 1e-3 * u(rng);
+    if (c % 5 == 0) de = {};  // the state itself decides
+    if (c % 5 == 0) {  // shift the state so that its largest principal stress is near zero
+      Eigen::Matrix3d m;
+      const auto M = suffuse::tensor::to_matrix(s0.data());
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) m(i, j) = M[i][j];
+      const double top = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()(2);
+      for (int a = 0; a < 3; ++a) s0[a] -= top + 0.1 * u(rng);
+    }
+    if (c % 50 == 1) s0 = {-1e5 * std::abs(u(rng)), 0, 0, 0, 0, 0}, de = {};  // uniaxial: largest principal exactly 0
+    std::copy(s0.begin(), s0.end(), cut.stress());
+    std::copy(s0.begin(), s0.end(), hooke.stress());
+    cut.strain(de);
+    hooke.strain(de);
+    Eigen::Matrix3d m;
+    const auto M = suffuse::tensor::to_matrix(hooke.stress());
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m(i, j) = M[i][j];
+    const double top = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()(2);
+    const bool zero = std::all_of(cut.stress(), cut.stress() + 6, [](double v) { return v == 0; });
+    const bool uniaxial = c % 50 == 1;
+    if (uniaxial) {
+      EXPECT_FALSE(zero) << "case " << c << ": a uniaxial compression was separated";
+    }
+    // Within round-off of the boundary either answer is right.
+    if (uniaxial || std::abs(top) < 1e-9 * 1e5) continue;
+    EXPECT_EQ(zero, top > 0) << "case " << c << ": largest principal stress " << top;
+    if (!zero) {
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(cut.stress()[k], hooke.stress()[k]);
+    }
+    (zero ? separated : kept) += 1;
+  }
+  EXPECT_GT(separated, 3000);
+  EXPECT_GT(kept, 10000);
+}
 
 // Drained triaxial compression and extension at a cell pressure of 100 kPa:
 // the axial stress at failure is the closed form, within 1e-6 relative,

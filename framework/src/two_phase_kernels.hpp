@@ -34,6 +34,16 @@ template <int D>
 void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
                    const double* dw, const SaturatedPoints& pt, const double* g, double scale,
                    const SaturatedNodes& out) {
+  // The targets are distinct arrays: restrict lets the compiler keep each
+  // node's sums in registers instead of reloading after every store.
+  double* __restrict solid_mass = out.solid_mass;
+  double* __restrict solid_momentum = out.solid_momentum;
+  double* __restrict force = out.force;
+  double* __restrict liquid_mass = out.liquid_mass;
+  double* __restrict liquid_momentum = out.liquid_momentum;
+  double* __restrict liquid_force = out.liquid_force;
+  double* __restrict liquid_inertia = out.liquid_inertia;
+  double* __restrict node_drag = out.drag;
   for (std::size_t p = begin; p < end; ++p) {
     const double ms = pt.mass[p], V = pt.volume[p], n = pt.porosity[p], pr = pt.pressure[p];
     // n rho_L V; its intrinsic density times the volume is m_L / n.
@@ -42,26 +52,34 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
     // Drag n gamma_w V / K: K is measured with clean water, whatever the
     // liquid carries. A dry point (n = 0) adds no liquid mass, drag or force.
     const double drag = n > 0 ? n * pt.water_density[p] * reference_gravity * V / pt.conductivity[p] : 0.0;
-    const double* vs = pt.velocity + p * D;
-    const double* vl = pt.liquid_velocity + p * D;
-    const double* s = pt.stress + p * 6;
+    // Per point, in the order of the per-node sums below (bit for bit the
+    // same as forming them at each node): total stress = sigma' - p I.
+    double vs[D], vl[D], Vs[D][D];
+    for (int i = 0; i < D; ++i) {
+      vs[i] = pt.velocity[p * D + i];
+      vl[i] = pt.liquid_velocity[p * D + i];
+      for (int j = 0; j < D; ++j) Vs[i][j] = V * pt.stress[p * 6 + voigt_index(i, j)];
+    }
+    const double Vp = V * pr, mixture = ms + ml;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
       const double N = w[k];
       const double* grad = dw + k * D;
       // Inertia (masses, momenta) carries the mass scaling; forces do not.
-      out.solid_mass[I] += scale * N * ms;
-      out.liquid_mass[I] += scale * N * ml;
-      if (n > 0) out.liquid_inertia[I] += scale * N * rho_l_V;
-      out.drag[I] += N * drag;
+      const double sN = scale * N, sNms = sN * ms, sNml = sN * ml;
+      solid_mass[I] += sNms;
+      liquid_mass[I] += sNml;
+      if (n > 0) liquid_inertia[I] += sN * rho_l_V;
+      node_drag[I] += N * drag;
       for (int i = 0; i < D; ++i) {
-        out.solid_momentum[I * D + i] += scale * N * ms * vs[i];
-        out.liquid_momentum[I * D + i] += scale * N * ml * vl[i];
-        double f = N * (ms + ml) * g[i] + V * pr * grad[i];  // total stress = sigma' - p I
-        for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
-        out.force[I * D + i] += f;
-        if (n > 0) out.liquid_force[I * D + i] += N * rho_l_V * g[i] + V * pr * grad[i];
+        solid_momentum[I * D + i] += sNms * vs[i];
+        liquid_momentum[I * D + i] += sNml * vl[i];
+        const double pressure = Vp * grad[i];
+        double f = N * mixture * g[i] + pressure;
+        for (int j = 0; j < D; ++j) f -= Vs[i][j] * grad[j];
+        force[I * D + i] += f;
+        if (n > 0) liquid_force[I * D + i] += N * rho_l_V * g[i] + pressure;
       }
     }
   }

@@ -1,6 +1,5 @@
 // phase/linear_elastic: isotropic Hooke's law, small-strain incremental form,
 // with the Jaumann rate so that a rigid rotation does not create stress.
-#include <Eigen/Eigenvalues>
 #include <suffuse/plugin.hpp>
 
 namespace {
@@ -60,18 +59,27 @@ class LinearElastic final : public suffuse::Phase {
       double* s6 = stress + p * 6;
       suffuse::tensor::Matrix ns =
           suffuse::tensor::jaumann_elastic_increment(suffuse::tensor::to_matrix(s6), d, w, G_, lambda_);
-      if (tension_cutoff_ && largest_principal(ns) > 0)
+      if (tension_cutoff_ && has_tension(ns))
         for (auto& row : ns)
           for (double& v : row) v = 0;
       suffuse::tensor::store(ns, s6);
     }
   }
 
-  static double largest_principal(const suffuse::tensor::Matrix& s) {
-    Eigen::Matrix3d m;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) m(i, j) = s[i][j];
-    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()(2);
+  // True when the largest principal stress is positive, that is when s is
+  // not negative semi-definite: some principal minor of -s is negative.
+  // Exact in the algebra and without an eigensolver, which cost a fifth of
+  // the default column's step.
+  static bool has_tension(const suffuse::tensor::Matrix& s) {
+    if (s[0][0] > 0 || s[1][1] > 0 || s[2][2] > 0) return true;
+    const double m01 = s[0][0] * s[1][1] - s[0][1] * s[0][1];
+    const double m02 = s[0][0] * s[2][2] - s[0][2] * s[0][2];
+    const double m12 = s[1][1] * s[2][2] - s[1][2] * s[1][2];
+    if (m01 < 0 || m02 < 0 || m12 < 0) return true;
+    // det(-s) = -det(s) >= 0 for a negative semi-definite s.
+    const double det = s[0][0] * m12 - s[0][1] * (s[0][1] * s[2][2] - s[1][2] * s[0][2]) +
+                       s[0][2] * (s[0][1] * s[1][2] - s[1][1] * s[0][2]);
+    return det > 0;
   }
 
   double rho_;

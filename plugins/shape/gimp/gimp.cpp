@@ -34,6 +34,8 @@ inline void gimp_1d(double r, double h, double lp, double& s, double& ds) {
   }
 }
 
+// Slot order: the first axis fastest (k = i + 3 j + 9 l), as the scatter
+// sums depend on it.
 template <int D>
 void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size, std::size_t n, std::int64_t* ids,
                    double* w, double* dw) {
@@ -42,53 +44,54 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
   const auto& h = grid.cell_size();
   const auto& nodes = grid.nodes_per_axis();
   for (std::size_t p = 0; p < n; ++p) {
-    int base[3] = {0, 0, 0};
     double s1[3][3] = {}, d1[3][3] = {};
-    bool valid[3][3] = {};
+    bool valid[3][3] = {{true, true, true}, {true, true, true}, {true, true, true}};
+    int node[3][3] = {};  // clamped to the grid: a missing node's slot names its neighbour, with weight 0
     for (int a = 0; a < D; ++a) {
       const double lp = std::min(0.5 * size[p * D + a], 0.5 * h[a]);
       const double xi = (x[p * D + a] - o[a]) / h[a];
-      base[a] = static_cast<int>(std::lround(xi)) - 1;  // nearest node and its two neighbours
+      // The nearest node and its two neighbours (floor(xi + 1/2): lround
+      // is a library call, and the two differ only for xi < 0, outside).
+      const int base = static_cast<int>(std::floor(xi + 0.5)) - 1;
       for (int k = 0; k < 3; ++k) {
-        const int node = base[a] + k;
-        valid[a][k] = node >= 0 && node < nodes[a];
-        gimp_1d(x[p * D + a] - (o[a] + node * h[a]), h[a], lp, s1[a][k], d1[a][k]);
+        const int i = base + k;
+        valid[a][k] = i >= 0 && i < nodes[a];
+        node[a][k] = std::clamp(i, 0, nodes[a] - 1);
+        gimp_1d(x[p * D + a] - (o[a] + i * h[a]), h[a], lp, s1[a][k], d1[a][k]);
       }
       // Outermost first, so a weight passed inwards is passed on again if
       // the next node is missing too.
       for (int k : {0, 1, 2, 1}) {
         if (valid[a][k] || (s1[a][k] == 0 && d1[a][k] == 0)) continue;
-        const int into = base[a] + k < 0 ? k + 1 : k - 1;  // the neighbour towards the grid
+        const int into = base + k < 0 ? k + 1 : k - 1;  // the neighbour towards the grid
         s1[a][into] += s1[a][k];
         d1[a][into] += d1[a][k];
         s1[a][k] = d1[a][k] = 0;
       }
     }
-    for (int k = 0; k < npp; ++k) {
-      const int off[3] = {k % 3, (k / 3) % 3, k / 9};
-      const std::size_t slot = p * npp + k;
-      bool inside = true;
-      int ijk[3] = {0, 0, 0};
-      for (int a = 0; a < D; ++a) {
-        inside = inside && valid[a][off[a]];
-        ijk[a] = std::clamp(base[a] + off[a], 0, nodes[a] - 1);
-      }
-      ids[slot] = grid.node_index(ijk[0], ijk[1], ijk[2]);
-      if (!inside) {
-        w[slot] = 0;
-        for (int a = 0; a < D; ++a) dw[slot * D + a] = 0;
-        continue;
-      }
-      double weight = 1;
-      for (int a = 0; a < D; ++a) weight *= s1[a][off[a]];
-      w[slot] = weight;
-      for (int a = 0; a < D; ++a) {
-        double g = d1[a][off[a]];
-        for (int b = 0; b < D; ++b)
-          if (b != a) g *= s1[b][off[b]];
-        dw[slot * D + a] = g;
-      }
-    }
+    std::size_t slot = p * npp;
+    constexpr int layers = D == 3 ? 3 : 1;
+    for (int l = 0; l < layers; ++l)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i, ++slot) {
+          ids[slot] = grid.node_index(node[0][i], node[1][j], D == 3 ? node[2][l] : 0);
+          double* g = dw + slot * D;
+          if (!(valid[0][i] && valid[1][j] && (D == 2 || valid[2][l]))) {
+            w[slot] = 0;
+            for (int a = 0; a < D; ++a) g[a] = 0;
+            continue;
+          }
+          if constexpr (D == 2) {
+            w[slot] = s1[0][i] * s1[1][j];
+            g[0] = d1[0][i] * s1[1][j];
+            g[1] = d1[1][j] * s1[0][i];
+          } else {
+            w[slot] = s1[0][i] * s1[1][j] * s1[2][l];
+            g[0] = d1[0][i] * s1[1][j] * s1[2][l];
+            g[1] = d1[1][j] * s1[0][i] * s1[2][l];
+            g[2] = d1[2][l] * s1[0][i] * s1[1][j];
+          }
+        }
   }
 }
 
