@@ -209,9 +209,12 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
     p2g_pressure_rate(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.volume), pts.data(f_.porosity),
                       pts.data(f_.pressure_rate), out[0], out[1]);
   });
+  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+    nodal_pressure_rate(b, e, node_volume_.data(), node_pressure_rate_.data());
+  });
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    g2p_pressure(b, e, s.npp, dt, s.ids.data(), s.weights.data(), node_pressure_rate_.data(), node_volume_.data(),
-                 pts.data(f_.porosity), pts.data(f_.pressure));
+    g2p_pressure(b, e, s.npp, dt, s.ids.data(), s.weights.data(), node_pressure_rate_.data(), pts.data(f_.porosity),
+                 pts.data(f_.pressure));
   });
 }
 

@@ -39,14 +39,22 @@ inline double undamped(double damped_force, double velocity, double damping) {
   return damped_force;
 }
 
+// The scatters copy what they read of a point into locals first: the node
+// arrays could alias it for all the compiler knows, and it would reload it
+// after every store. The products keep their order (bit for bit the same).
 template <int D>
 void p2g_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w, const double* dw,
                 const double* mass, const double* volume, const double* vel, const double* stress,
                 const double* g, double scale, double* node_mass, double* node_mom, double* node_force) {
+  double gravity[D];
+  for (int i = 0; i < D; ++i) gravity[i] = g[i];
   for (std::size_t p = begin; p < end; ++p) {
     const double m = mass[p], V = volume[p], inertia = scale * m;
-    const double* v = vel + p * D;
-    const double* s = stress + p * 6;
+    double v[D], Vs[D][D];
+    for (int i = 0; i < D; ++i) {
+      v[i] = vel[p * D + i];
+      for (int j = 0; j < D; ++j) Vs[i][j] = V * stress[p * 6 + voigt_index(i, j)];
+    }
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
@@ -55,8 +63,8 @@ void p2g_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t*
       node_mass[I] += wi;
       for (int i = 0; i < D; ++i) {
         node_mom[I * D + i] += wi * v[i];
-        double f = wm * g[i];
-        for (int j = 0; j < D; ++j) f -= V * s[voigt_index(i, j)] * grad[j];
+        double f = wm * gravity[i];
+        for (int j = 0; j < D; ++j) f -= Vs[i][j] * grad[j];
         node_force[I * D + i] += f;
       }
     }
@@ -131,10 +139,13 @@ void remap_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_
                   const double* mass, double scale, const double* vel, double* node_mom) {
   for (std::size_t p = begin; p < end; ++p) {
     const double m = scale * mass[p];
+    double v[D];
+    for (int i = 0; i < D; ++i) v[i] = vel[p * D + i];
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
-      for (int i = 0; i < D; ++i) node_mom[I * D + i] += w[k] * m * vel[p * D + i];
+      const double wm = w[k] * m;
+      for (int i = 0; i < D; ++i) node_mom[I * D + i] += wm * v[i];
     }
   }
 }

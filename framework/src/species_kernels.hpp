@@ -299,22 +299,29 @@ struct Transport {
 // Gather: each point takes its share of the nodal changes. Losses are shared
 // in proportion to what the points hold, gains in proportion to their pore
 // volume, so the shares of a node add up to its change exactly.
+// First, per node, the change per amount held (losses) and per pore volume
+// (gains): one division per node rather than one per point and node.
+inline void share_rates(std::size_t nodes, const double* node_pore, const double* node_amount,
+                        const double* node_change, double* per_amount, double* per_pore) {
+  for (std::size_t I = 0; I < nodes; ++I) {
+    const double d = node_change[I];
+    per_amount[I] = d < 0 && node_amount[I] > 0 ? d / node_amount[I] : 0.0;
+    per_pore[I] = d > 0 ? d / node_pore[I] : 0.0;
+  }
+}
+
 inline void g2p_share(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
-                      const double* volume, const double* n, const double* node_pore, const double* node_amount,
-                      const double* node_change, double* amount) {
+                      const double* volume, const double* n, const double* per_amount, const double* per_pore,
+                      double* amount) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;
-    const double pore = n[p] * volume[p];
+    const double pore = n[p] * volume[p], held = amount[p];
     double change = 0;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
-      const double d = node_change[I];
-      if (d < 0) {
-        if (node_amount[I] > 0) change += w[k] * amount[p] * (d / node_amount[I]);
-      } else if (d > 0) {
-        change += w[k] * pore * (d / node_pore[I]);
-      }
+      // One of the two rates is zero: the sum is the other term exactly.
+      change += w[k] * held * per_amount[I] + w[k] * pore * per_pore[I];
     }
     amount[p] += change;
   }

@@ -66,7 +66,9 @@ SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry,
   node_face_.assign(nn * scene.dim, 0.0);
   for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_, &node_out_, &node_dliquid_,
                   &node_dfines_, &node_dcarrying_, &node_free_liquid_, &node_free_fines_, &node_free_carrying_,
-                  &stage_dliquid_, &stage_dfines_, &stage_dcarrying_, &stage_liquid_, &stage_fines_, &stage_carrying_})
+                  &stage_dliquid_, &stage_dfines_, &stage_dcarrying_, &stage_liquid_, &stage_fines_, &stage_carrying_,
+                  &share_liquid_, &share_fines_, &share_carrying_, &share_pore_liquid_, &share_pore_fines_,
+                  &share_pore_carrying_})
     v->assign(nn, 0.0);
   setup_openings(scene, mixture, bcs);
 }
@@ -331,14 +333,23 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   double* rho = pts.data(m_.liquid_density);
   double* moving = pts.data(m_.moving_liquid_mass);
   double* c = fines_ ? pts.data(fines_->concentration) : nullptr;
+  const std::size_t nn = d_.grid.node_count();
+  share_rates(nn, node_pore_.data(), node_liquid_.data(), node_dliquid_.data(), share_liquid_.data(),
+              share_pore_liquid_.data());
+  if (fines) {
+    share_rates(nn, node_pore_.data(), node_fines_.data(), node_dfines_.data(), share_fines_.data(),
+                share_pore_fines_.data());
+    share_rates(nn, node_pore_.data(), node_carrying_.data(), node_dcarrying_.data(), share_carrying_.data(),
+                share_pore_carrying_.data());
+  }
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, node_pore_.data(), node_liquid_.data(),
-              node_dliquid_.data(), pts.data(m_.liquid_mass));
+    g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_liquid_.data(), share_pore_liquid_.data(),
+              pts.data(m_.liquid_mass));
     if (fines) {
-      g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, node_pore_.data(), node_fines_.data(),
-                node_dfines_.data(), pts.data(fines_->suspended_fines));
-      g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, node_pore_.data(), node_carrying_.data(),
-                node_dcarrying_.data(), pts.data(fines_->carrying_liquid));
+      g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_fines_.data(), share_pore_fines_.data(),
+                pts.data(fines_->suspended_fines));
+      g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_carrying_.data(),
+                share_pore_carrying_.data(), pts.data(fines_->carrying_liquid));
     }
     // The momentum balance sees the pores full of the liquid the point
     // carries: n V rho_L, rho_L = c rho_s + (1 - c) rho_w. Not the carried

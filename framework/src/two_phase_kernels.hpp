@@ -156,16 +156,20 @@ inline void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const
   }
 }
 
+// The nodal rate: the volume-weighted mean (zero at nodes without volume).
+inline void nodal_pressure_rate(std::size_t begin, std::size_t end, const double* node_volume, double* node_rate) {
+  for (std::size_t I = begin; I < end; ++I) node_rate[I] = node_volume[I] > 0 ? node_rate[I] / node_volume[I] : 0.0;
+}
+
 // Gather half: each point's pressure grows by the interpolated nodal rate.
 inline void g2p_pressure(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
-                         const double* w, const double* node_rate, const double* node_volume, const double* n,
-                         double* pressure) {
+                         const double* w, const double* node_rate, const double* n, double* pressure) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // dry points keep p = 0
     double rate = 0;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
-      if (node_volume[ids[k]] > 0) rate += w[k] * node_rate[ids[k]] / node_volume[ids[k]];
+      rate += w[k] * node_rate[ids[k]];
     }
     pressure[p] += rate * dt;
   }
