@@ -15,23 +15,18 @@ namespace {
 
 using suffuse::GridGeometry;
 
-// 1D uGIMP weight and derivative for node distance r, cell size h, half-size lp.
-inline void gimp_1d(double r, double h, double lp, double& s, double& ds) {
-  const double a = std::abs(r), sign = r < 0 ? -1.0 : 1.0;
-  if (a < lp) {
-    s = 1 - (r * r + lp * lp) / (2 * h * lp);
-    ds = -r / (h * lp);
-  } else if (a < h - lp) {
-    s = 1 - a / h;
-    ds = -sign / h;
-  } else if (a < h + lp) {
-    const double t = h + lp - a;
-    s = t * t / (4 * h * lp);
-    ds = -sign * t / (2 * h * lp);
-  } else {
-    s = 0;
-    ds = 0;
-  }
+// 1D uGIMP weight and derivative for node distance r, cell size h, half-size
+// lp (with 1/h and 1/(h lp) given). All three pieces are formed and one is
+// selected: the piece changes from node to node, and a branch on it is
+// mispredicted about as often as not.
+inline void gimp_1d(double r, double h, double lp, double inv_h, double inv_hlp, double& s, double& ds) {
+  const double a = std::abs(r), sign = r < 0 ? -1.0 : 1.0, t = h + lp - a;
+  const double s_inside = 1 - (r * r + lp * lp) * (0.5 * inv_hlp), ds_inside = -r * inv_hlp;
+  const double s_linear = 1 - a * inv_h, ds_linear = -sign * inv_h;
+  const double s_edge = t * t * (0.25 * inv_hlp), ds_edge = -sign * t * (0.5 * inv_hlp);
+  const bool inside = a < lp, linear = a < h - lp, edge = a < h + lp;
+  s = inside ? s_inside : linear ? s_linear : edge ? s_edge : 0.0;
+  ds = inside ? ds_inside : linear ? ds_linear : edge ? ds_edge : 0.0;
 }
 
 // Slot order: the first axis fastest (k = i + 3 j + 9 l), as the scatter
@@ -43,13 +38,14 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
   const auto& o = grid.origin();
   const auto& h = grid.cell_size();
   const auto& nodes = grid.nodes_per_axis();
+  const double inv_h[3] = {1 / h[0], 1 / h[1], 1 / h[2]};
   for (std::size_t p = 0; p < n; ++p) {
     double s1[3][3] = {}, d1[3][3] = {};
     bool valid[3][3] = {{true, true, true}, {true, true, true}, {true, true, true}};
     int node[3][3] = {};  // clamped to the grid: a missing node's slot names its neighbour, with weight 0
     for (int a = 0; a < D; ++a) {
-      const double lp = std::min(0.5 * size[p * D + a], 0.5 * h[a]);
-      const double xi = (x[p * D + a] - o[a]) / h[a];
+      const double lp = std::min(0.5 * size[p * D + a], 0.5 * h[a]), inv_hlp = 1 / (h[a] * lp);
+      const double xi = (x[p * D + a] - o[a]) * inv_h[a];
       // The nearest node and its two neighbours (floor(xi + 1/2): lround
       // is a library call, and the two differ only for xi < 0, outside).
       const int base = static_cast<int>(std::floor(xi + 0.5)) - 1;
@@ -57,7 +53,7 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
         const int i = base + k;
         valid[a][k] = i >= 0 && i < nodes[a];
         node[a][k] = std::clamp(i, 0, nodes[a] - 1);
-        gimp_1d(x[p * D + a] - (o[a] + i * h[a]), h[a], lp, s1[a][k], d1[a][k]);
+        gimp_1d(x[p * D + a] - (o[a] + i * h[a]), h[a], lp, inv_h[a], inv_hlp, s1[a][k], d1[a][k]);
       }
       // Outermost first, so a weight passed inwards is passed on again if
       // the next node is missing too.
