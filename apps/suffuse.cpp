@@ -8,6 +8,7 @@
 //   suffuse plot profile|map|animate [options] RUN
 //   suffuse gradation PSD.csv [--json] [--png FILE.png]
 #include <signal.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -473,6 +474,13 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
       sep = ", ";
     }
     std::cout << "\n";
+    // Peak resident memory of the process (program and libraries included),
+    // over the points: issue 17's figure of memory per point.
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) == 0 && sim.points().size() > 0)
+      std::cout << "  peak memory: " << std::setprecision(4) << usage.ru_maxrss / 1024.0 << " MB resident, "
+                << std::setprecision(3) << usage.ru_maxrss * 1024.0 / static_cast<double>(sim.points().size())
+                << " bytes per material point\n";
     if (scene.integration == suffuse::TimeIntegration::quasi_static)
       std::cout << "  equilibrium: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps; "
                 << s.halved_steps << " attempts halved\n";
