@@ -17,55 +17,65 @@ namespace {
 using suffuse::detail::Executor;
 using suffuse::detail::ScatterTargets;
 
-// Ten nodal arrays of different lengths (more than any stage scatters into),
-// each point adding a known amount to a few entries of each.
+// Ten arrays over 700 entries, with 1 to 3 values per entry (more arrays
+// than any stage scatters into); each point adds known amounts to two
+// entries: near its neighbours' (as points that follow the grid do), and
+// every 97th point to the first and the last entry (a chunk spanning all).
 struct ScatterCase {
+  static constexpr std::size_t entries = 700;
   std::vector<std::vector<double>> arrays;
-  std::size_t points = 1001;
-  ScatterCase() {
-    for (int k = 0; k < 10; ++k) arrays.emplace_back(50 + 37 * k, 0.0);
+  std::vector<std::int64_t> index;
+  std::size_t points;
+  explicit ScatterCase(std::size_t points) : points(points) {
+    for (int k = 0; k < 10; ++k) arrays.emplace_back(entries * (1 + k % 3), 0.0);
+    for (std::size_t p = 0; p < points; ++p) {
+      const auto near = static_cast<std::int64_t>((p / 10) % entries);
+      index.push_back(p % 97 == 0 ? 0 : near);
+      index.push_back(p % 97 == 0 ? static_cast<std::int64_t>(entries) - 1 : (near + 1) % static_cast<std::int64_t>(entries));
+    }
+  }
+  static double amount(std::size_t p, std::size_t k, int slot) {
+    return slot == 0 ? 1.0 + 0.001 * static_cast<double>(p) : 0.5 + 1e-7 * static_cast<double>(k * p);
+  }
+  void add(std::size_t p, std::size_t k, double* out) const {
+    const std::size_t m = arrays[k].size() / entries;
+    for (int slot = 0; slot < 2; ++slot)
+      for (std::size_t c = 0; c < m; ++c) out[static_cast<std::size_t>(index[2 * p + slot]) * m + c] += amount(p, k, slot);
   }
   std::vector<std::vector<double>> run(int threads) {
     for (auto& a : arrays) std::fill(a.begin(), a.end(), 0.0);
     Executor exec(threads);
-    ScatterTargets targets;
+    ScatterTargets targets(index.data(), 2, entries);
     for (auto& a : arrays) targets.add(a);
     exec.scatter(points, targets, [&](std::size_t b, std::size_t e, double* const* out) {
       for (std::size_t p = b; p < e; ++p)
-        for (std::size_t k = 0; k < arrays.size(); ++k) {
-          const std::size_t n = arrays[k].size();
-          out[k][p % n] += 1.0 + 0.001 * static_cast<double>(p);
-          out[k][(7 * p + k) % n] += 0.5;
-        }
+        for (std::size_t k = 0; k < arrays.size(); ++k) add(p, k, out[k]);
     });
     return arrays;
   }
 };
 
-TEST(Kernels, ScatterWithOneTwoAndThreeThreadsAddsEveryContribution) {
-  ScatterCase c;
-  // The exact sums, point by point.
-  std::vector<std::vector<double>> expected;
-  for (const auto& a : c.arrays) expected.emplace_back(a.size(), 0.0);
-  for (std::size_t p = 0; p < c.points; ++p)
-    for (std::size_t k = 0; k < expected.size(); ++k) {
-      const std::size_t n = expected[k].size();
-      expected[k][p % n] += 1.0 + 0.001 * static_cast<double>(p);
-      expected[k][(7 * p + k) % n] += 0.5;
-    }
-  for (int threads : {1, 2, 3}) {
-    const auto got = c.run(threads);
-    for (std::size_t k = 0; k < got.size(); ++k)
-      for (std::size_t i = 0; i < got[k].size(); ++i)
-        ASSERT_NEAR(got[k][i], expected[k][i], 1e-12 * std::abs(expected[k][i]))
-            << threads << " threads, array " << k << ", entry " << i;
-    EXPECT_EQ(c.run(threads), got) << "the same numbers for the same thread count";
+// Every contribution arrives, and the sums are bit for bit the same for 1,
+// 2 and 3 threads: in one chunk (500 points) and in several (3.2 chunks).
+TEST(Kernels, ScatterAddsEveryContributionTheSameForAnyThreadCount) {
+  for (std::size_t points : {std::size_t{500}, 3 * Executor::scatter_chunk + 501}) {
+    ScatterCase c(points);
+    std::vector<std::vector<double>> expected;
+    for (const auto& a : c.arrays) expected.emplace_back(a.size(), 0.0);
+    for (std::size_t p = 0; p < points; ++p)
+      for (std::size_t k = 0; k < expected.size(); ++k) c.add(p, k, expected[k].data());
+    const auto serial = c.run(1);
+    for (std::size_t k = 0; k < serial.size(); ++k)
+      for (std::size_t i = 0; i < serial[k].size(); ++i)
+        ASSERT_NEAR(serial[k][i], expected[k][i], 1e-12 * std::abs(expected[k][i]))
+            << points << " points, array " << k << ", entry " << i;
+    for (int threads : {2, 3}) EXPECT_EQ(c.run(threads), serial) << points << " points, " << threads << " threads";
   }
 }
 
 TEST(Kernels, ScatterTargetsRefuseMoreThanTheirCapacity) {
   std::vector<std::vector<double>> arrays(ScatterTargets::capacity + 1, std::vector<double>(3));
-  ScatterTargets targets;
+  ScatterTargets targets(nullptr, 1, 3);
   for (int k = 0; k < ScatterTargets::capacity; ++k) targets.add(arrays[k]);
   EXPECT_THROW(targets.add(arrays.back()), suffuse::Error);
 }

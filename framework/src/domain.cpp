@@ -103,6 +103,7 @@ void Domain::evaluate_shape(Interpolation& out) {
                               std::span(out.weights).subspan(b * npp, (e - b) * npp),
                               std::span(out.gradients).subspan(b * npp * D, (e - b) * npp * D));
   });
+  exec.chunk_ranges(out.ids.data(), npp, n, out.chunks);
 }
 
 void Domain::locate_cells() {
@@ -121,6 +122,7 @@ void Domain::locate_cells() {
       point_cell_[p] = cell;
     }
   });
+  exec.chunk_ranges(point_cell_.data(), 1, n, point_cell_chunks_);
 }
 
 void Domain::update_kinematics(double dt) {
@@ -151,7 +153,7 @@ void Domain::update_velocity_gradient(double dt) {
   if (!average_volumetric_rate_) return;
   std::fill(cell_volume_.begin(), cell_volume_.end(), 0.0);
   std::fill(cell_rate_.begin(), cell_rate_.end(), 0.0);
-  ScatterTargets targets;
+  ScatterTargets targets(point_cell_.data(), 1, cell_volume_.size(), &point_cell_chunks_);
   targets.add(cell_volume_);
   targets.add(cell_rate_);
   auto sum = dim() == 2 ? &cell_volumetric_rate_kernel<2> : &cell_volumetric_rate_kernel<3>;

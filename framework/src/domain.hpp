@@ -32,6 +32,7 @@ struct Interpolation {
   int npp = 0;  // nodes per point
   std::vector<std::int64_t> ids;
   std::vector<double> weights, gradients;
+  ScatterRanges chunks;  // the nodes each scatter chunk touches, for every nodal scatter of the step
 };
 
 class Domain {
@@ -74,6 +75,7 @@ class Domain {
   // of isochoric plastic flow on low-order shape functions).
   bool average_volumetric_rate_;
   std::vector<std::int64_t> point_cell_;
+  ScatterRanges point_cell_chunks_;
   std::vector<double> cell_volume_, cell_rate_;
 };
 

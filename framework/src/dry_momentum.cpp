@@ -9,11 +9,11 @@ void DryMomentum::points_to_grid() {
   for (auto* v : {&n.mass, &n.momentum, &n.force}) std::fill(v->begin(), v->end(), 0.0);
   const auto& f = d_.points.core();
   auto kernel = d_.dim() == 2 ? &p2g_kernel<2> : &p2g_kernel<3>;
-  ScatterTargets targets;
+  const Interpolation& s = d_.shape;
+  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(n.mass);
   targets.add(n.momentum);
   targets.add(n.force);
-  const Interpolation& s = d_.shape;
   d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), d_.points.data(f.mass),
            d_.points.data(f.volume), d_.points.data(f.velocity), d_.points.data(f.stress), gravity_.data(),
@@ -53,7 +53,7 @@ void DryMomentum::remap() {
   const auto& f = d_.points.core();
   const Interpolation& s = d_.shape;
   auto kernel = d_.dim() == 2 ? &remap_kernel<2> : &remap_kernel<3>;
-  ScatterTargets targets;
+  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(n.momentum);
   d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, s.npp, s.ids.data(), s.weights.data(), d_.points.data(f.mass), mass_scaling_,

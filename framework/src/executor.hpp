@@ -1,13 +1,15 @@
 #pragma once
 // The two parallel patterns of the step, named once and reused by every part:
 // a loop over contiguous chunks of a range, and a scatter from points into
-// nodal arrays with per-thread buffers. Results depend on the thread count
-// only through the order of floating-point sums, and are the same for the
-// same thread count (no atomics).
+// nodal (or cell) arrays. The scatter sums in an order fixed by the points
+// alone, so results are bit for bit the same for any thread count (no
+// atomics, no per-thread sums).
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -15,34 +17,64 @@
 
 namespace suffuse::detail {
 
-// The nodal arrays one scatter adds into.
+// The entries [first, last) the points of one scatter chunk add to.
+struct ScatterRange {
+  std::size_t first = 0, last = 0;
+};
+using ScatterRanges = std::vector<ScatterRange>;
+
+// The arrays one scatter adds into, and which of their entries each point
+// adds to: `per_point` indices per point in `index` (the shape functions'
+// node ids, or a point's cell), each naming an entry of every array (an
+// array holds size / entries values per entry: 1 for a mass, dim for a
+// momentum). `ranges`, if given, are those of Executor::chunk_ranges for
+// this index, computed once where the index is made (the shape functions'
+// serve every nodal scatter of a step).
 class ScatterTargets {
  public:
   static constexpr int capacity = 16;
+  ScatterTargets(const std::int64_t* index, int per_point, std::size_t entries,
+                 const ScatterRanges* ranges = nullptr)
+      : index_(index), per_point_(per_point), entries_(entries), ranges_(ranges) {}
   void add(std::vector<double>& v) {
     if (count_ == capacity)
-      throw Error("internal: a scatter into more than " + std::to_string(capacity) + " nodal arrays");
+      throw Error("internal: a scatter into more than " + std::to_string(capacity) + " arrays");
+    if (entries_ == 0 || v.size() % entries_ != 0)
+      throw Error("internal: a scatter target of " + std::to_string(v.size()) + " values for " +
+                  std::to_string(entries_) + " entries");
     array_[count_] = v.data();
-    size_[count_++] = v.size();
+    components_[count_++] = v.size() / entries_;
   }
   int count() const { return count_; }
   double* const* arrays() const { return array_.data(); }
-  std::size_t size(int k) const { return size_[k]; }
-  std::size_t total_size() const {
+  std::size_t components(int k) const { return components_[k]; }
+  std::size_t components_total() const {
     std::size_t n = 0;
-    for (int k = 0; k < count_; ++k) n += size_[k];
+    for (int k = 0; k < count_; ++k) n += components_[k];
     return n;
   }
+  const std::int64_t* index() const { return index_; }
+  int per_point() const { return per_point_; }
+  std::size_t entries() const { return entries_; }
+  const ScatterRanges* ranges() const { return ranges_; }
 
  private:
+  const std::int64_t* index_;
+  int per_point_;
+  std::size_t entries_;
+  const ScatterRanges* ranges_;
   std::array<double*, capacity> array_{};
-  std::array<std::size_t, capacity> size_{};
+  std::array<std::size_t, capacity> components_{};
   int count_ = 0;
 };
 
 class Executor {
  public:
-  explicit Executor(int threads) : threads_(std::max(1, threads)), buffers_(threads_ - 1), errors_(threads_) {}
+  // Points per scatter chunk: fixed, whatever the thread count, so that the
+  // sums are too. Scenes with fewer points scatter in one pass.
+  static constexpr std::size_t scatter_chunk = 2048;
+
+  explicit Executor(int threads) : threads_(std::max(1, threads)), errors_(threads_) {}
 
   int threads() const { return threads_; }
 
@@ -67,45 +99,91 @@ class Executor {
       if (e) std::rethrow_exception(e);
   }
 
-  // Runs kernel(begin, end, arrays) on chunks of [0, points); `arrays` are the
-  // targets' data in the order they were added. Threads other than the first
-  // add into private buffers, sized from the targets (grown on first use
-  // only), summed into the targets in thread order afterwards.
+  // Runs kernel(begin, end, arrays) on chunks of scatter_chunk points;
+  // `arrays` are the targets' data in the order they were added. The first
+  // chunk adds into the targets; every other one into a buffer over the
+  // entries its points touch (the points of a chunk are neighbours when they
+  // follow the grid's order, as bodies are made), zeroed first. The buffers
+  // are then added into the targets entry by entry in chunk order.
   template <class Kernel>
   void scatter(std::size_t points, const ScatterTargets& targets, Kernel&& kernel) {
-    const std::size_t total = targets.total_size();
-    for_chunks(points, [&](int t, std::size_t b, std::size_t e) {
-      if (t == 0) {
-        kernel(b, e, targets.arrays());
-        return;
-      }
-      std::vector<double>& buffer = buffers_[t - 1];
-      if (buffer.size() < total) buffer.resize(total);
-      std::array<double*, ScatterTargets::capacity> mine{};
-      double* next = buffer.data();
-      for (int k = 0; k < targets.count(); ++k) {
-        mine[k] = next;
-        std::fill(next, next + targets.size(k), 0.0);
-        next += targets.size(k);
-      }
-      kernel(b, e, mine.data());
-    });
-    if (buffers_.empty()) return;
-    std::size_t offset = 0;
-    for (int k = 0; k < targets.count(); ++k) {
-      double* out = targets.arrays()[k];
-      for_chunks(targets.size(k), [&](int, std::size_t b, std::size_t e) {
-        for (const std::vector<double>& buffer : buffers_)
-          for (std::size_t i = b; i < e; ++i) out[i] += buffer[offset + i];
-      });
-      offset += targets.size(k);
+    const std::size_t chunks = (points + scatter_chunk - 1) / scatter_chunk;
+    if (chunks <= 1) {
+      if (points > 0) kernel(std::size_t{0}, points, targets.arrays());
+      return;
     }
+    if (!targets.ranges() || targets.ranges()->size() != chunks)
+      chunk_ranges(targets.index(), targets.per_point(), points, ranges_);
+    const ScatterRanges& ranges = targets.ranges() && targets.ranges()->size() == chunks ? *targets.ranges() : ranges_;
+    offsets_.resize(chunks);
+    std::size_t total = 0;
+    for (std::size_t c = 1; c < chunks; ++c) {
+      offsets_[c] = total;
+      total += (ranges[c].last - ranges[c].first) * targets.components_total();
+    }
+    if (buffer_.size() < total) buffer_.resize(total);
+    for_chunks(chunks, [&](int, std::size_t cb, std::size_t ce) {
+      for (std::size_t c = cb; c < ce; ++c) {
+        const std::size_t begin = c * scatter_chunk, end = std::min(points, begin + scatter_chunk);
+        if (c == 0) {
+          kernel(begin, end, targets.arrays());
+          continue;
+        }
+        // Each array's part of the buffer, shifted so that the kernel
+        // indexes it by entry as it does the targets.
+        std::array<double*, ScatterTargets::capacity> mine{};
+        double* next = buffer_.data() + offsets_[c];
+        const std::size_t width = ranges[c].last - ranges[c].first;
+        for (int k = 0; k < targets.count(); ++k) {
+          const std::size_t n = width * targets.components(k);
+          std::fill(next, next + n, 0.0);
+          mine[k] = next - ranges[c].first * targets.components(k);
+          next += n;
+        }
+        kernel(begin, end, mine.data());
+      }
+    });
+    for_chunks(targets.entries(), [&](int, std::size_t eb, std::size_t ee) {
+      for (std::size_t c = 1; c < chunks; ++c) {
+        const std::size_t first = std::max(eb, ranges[c].first), last = std::min(ee, ranges[c].last);
+        if (first >= last) continue;
+        const double* part = buffer_.data() + offsets_[c];
+        const std::size_t width = ranges[c].last - ranges[c].first;
+        for (int k = 0; k < targets.count(); ++k) {
+          const std::size_t m = targets.components(k);
+          double* out = targets.arrays()[k];
+          const double* from = part - ranges[c].first * m;
+          for (std::size_t i = first * m; i < last * m; ++i) out[i] += from[i];
+          part += width * m;
+        }
+      }
+    });
+  }
+
+  // The entries each scatter chunk of `points` touches through `index`.
+  void chunk_ranges(const std::int64_t* index, int per_point, std::size_t points, ScatterRanges& out) {
+    const std::size_t chunks = (points + scatter_chunk - 1) / scatter_chunk;
+    const std::size_t m = static_cast<std::size_t>(per_point);
+    out.resize(chunks);
+    for_chunks(chunks, [&](int, std::size_t cb, std::size_t ce) {
+      for (std::size_t c = cb; c < ce; ++c) {
+        std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = -1;
+        const std::size_t end = std::min(points, (c + 1) * scatter_chunk) * m;
+        for (std::size_t k = c * scatter_chunk * m; k < end; ++k) {
+          lo = std::min(lo, index[k]);
+          hi = std::max(hi, index[k]);
+        }
+        out[c] = hi < lo ? ScatterRange{} : ScatterRange{static_cast<std::size_t>(lo), static_cast<std::size_t>(hi) + 1};
+      }
+    });
   }
 
  private:
   int threads_;
-  std::vector<std::vector<double>> buffers_;  // per extra thread
-  std::vector<std::exception_ptr> errors_;    // per thread, for for_chunks
+  std::vector<std::exception_ptr> errors_;  // per thread, for for_chunks
+  ScatterRanges ranges_;                    // per scatter chunk: the entries it touches, when not given
+  std::vector<std::size_t> offsets_;        // per scatter chunk: where its buffer starts
+  std::vector<double> buffer_;              // the chunks' sums, grown on first use only
 };
 
 // Global reductions. Every total over the whole domain (the mass ledger, the

@@ -9,7 +9,7 @@
 
 namespace suffuse::detail {
 
-MemoryEstimate estimate_memory(const Scene& scene, int threads) {
+MemoryEstimate estimate_memory(const Scene& scene) {
   MemoryEstimate e;
   const int D = scene.dim;
   // Points: as Domain::create_body makes them.
@@ -24,15 +24,17 @@ MemoryEstimate estimate_memory(const Scene& scene, int threads) {
   // Per point: the fields (about 60 values in a saturated run with fines,
   // 35 dry) and the shape functions of the step (up to 3^dim nodes, with an
   // id, a weight and dim gradients each). Per node: the nodal arrays of both
-  // phases and the transport (about 14 dim + 20 values), once per thread for
-  // the scatters. Measured on the bench columns within 30%.
+  // phases and the transport (about 14 dim + 20 values), and the scatter's
+  // chunk sums over the largest scatter's arrays (the saturated one, 4 + 4
+  // dim values), about 1.5 times over when the points follow the grid's
+  // order, as bodies are made. Measured on the bench columns within 30%.
   const double per_point = (scene.saturated() ? 60.0 : 35.0) + std::pow(3.0, D) * (2.0 + D);
-  const double per_node = (14.0 * D + 20.0) * std::max(1, threads);
+  const double per_node = 14.0 * D + 20.0 + 1.5 * (4.0 + 4.0 * D);
   e.bytes = 8.0 * (e.points * per_point + e.nodes * per_node);
   return e;
 }
 
-void check_memory(const Scene& scene, int threads) {
+void check_memory(const Scene& scene) {
   std::ifstream meminfo("/proc/meminfo");
   std::string key;
   double kib = -1;
@@ -44,7 +46,7 @@ void check_memory(const Scene& scene, int threads) {
     meminfo.ignore(256, '\n');
   }
   if (kib <= 0) return;
-  const MemoryEstimate e = estimate_memory(scene, threads);
+  const MemoryEstimate e = estimate_memory(scene);
   const double available = kib * 1024.0;
   if (e.bytes <= available) return;
   std::ostringstream msg;

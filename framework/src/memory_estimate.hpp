@@ -13,9 +13,9 @@ struct MemoryEstimate {
   double points = 0, nodes = 0, bytes = 0;
 };
 
-MemoryEstimate estimate_memory(const Scene& scene, int threads);
+MemoryEstimate estimate_memory(const Scene& scene);
 // Throws suffuse::Error when the estimate exceeds the memory available
 // (MemAvailable of /proc/meminfo; no check where it cannot be read).
-void check_memory(const Scene& scene, int threads);
+void check_memory(const Scene& scene);
 
 }  // namespace suffuse::detail

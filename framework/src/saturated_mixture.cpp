@@ -101,11 +101,11 @@ void SaturatedMixture::points_to_grid() {
                            pts.data(f_.porosity),      pts.data(f_.pressure),
                            pts.data(f_.liquid_velocity), pts.data(f_.moving_liquid_mass),
                            pts.data(f_.conductivity),  pts.data(f_.water_density)};
-  ScatterTargets targets;
+  const Interpolation& s = d_.shape;
+  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   for (auto* v : {&n.mass, &n.momentum, &n.force, &n.liquid_mass, &n.liquid_momentum, &n.liquid_force,
                   &n.liquid_inertia, &node_drag_})
     targets.add(*v);
-  const Interpolation& s = d_.shape;
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), pt, gravity_.data(), mass_scaling_,
            SaturatedNodes{out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7]});
@@ -154,7 +154,7 @@ void SaturatedMixture::remap() {
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
   auto kernel = d_.dim() == 2 ? &remap_kernel<2> : &remap_kernel<3>;
-  ScatterTargets targets;
+  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(n.momentum);
   targets.add(n.liquid_momentum);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
@@ -202,7 +202,7 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
   // nearly incompressible mixture on linear cells (as in Anura3D).
   std::fill(node_pressure_rate_.begin(), node_pressure_rate_.end(), 0.0);
   std::fill(node_volume_.begin(), node_volume_.end(), 0.0);
-  ScatterTargets targets;
+  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(node_pressure_rate_);
   targets.add(node_volume_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {

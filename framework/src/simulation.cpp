@@ -64,7 +64,7 @@ void SimulationClock::advance() {
 }
 
 Simulation::Simulation(const Scene& scene, const Registry& registry, int threads)
-    : scene_((detail::check_memory(scene, threads), scene)),  // before anything is allocated
+    : scene_((detail::check_memory(scene), scene)),  // before anything is allocated
       domain_(std::make_unique<detail::Domain>(scene, registry, threads)),
       materials_(std::make_unique<detail::Materials>(scene, registry)),
       reactions_(std::make_unique<detail::Reactions>(scene.reactions, scene.dim, scene.damping)) {

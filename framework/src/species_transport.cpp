@@ -290,7 +290,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   const double* n = pts.data(m_.porosity);
   const Interpolation& s = d_.shape;
   for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_}) std::fill(v->begin(), v->end(), 0.0);
-  ScatterTargets targets;
+  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(node_pore_);
   targets.add(node_liquid_);
   if (fines_) targets.add(node_fines_), targets.add(node_carrying_);
