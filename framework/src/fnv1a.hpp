@@ -6,8 +6,9 @@
 
 namespace suffuse::detail {
 
-inline std::uint64_t fnv1a(std::string_view bytes) {
-  std::uint64_t h = 14695981039346656037ull;
+// `h` continues a hash over the bytes before these (a file written piece by piece).
+inline constexpr std::uint64_t fnv1a_basis = 14695981039346656037ull;
+inline std::uint64_t fnv1a(std::string_view bytes, std::uint64_t h = fnv1a_basis) {
   for (unsigned char c : bytes) {
     h ^= c;
     h *= 1099511628211ull;
