@@ -1,0 +1,216 @@
+// Each stage kernel of the explicit step on its own, on synthetic data: a 2D
+// grid of 316 x 316 cells holding 2 x 2 points per cell (399,424 points, as
+// bodies are made: row after row), interpolated by shape/linear or
+// shape/gimp. items_per_second is points per second through the kernel, so a
+// kernel's share of a step is its time over the step's (docs/performance.md).
+// Run: ./build/bin/bench_kernels [--benchmark_filter=gimp]
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <suffuse/phase.hpp>
+#include <suffuse/plugin_loader.hpp>
+#include <suffuse/points.hpp>
+#include <suffuse/shape_function.hpp>
+#include <vector>
+
+#include "executor.hpp"
+#include "solid_kernels.hpp"
+#include "species_kernels.hpp"
+#include "two_phase_kernels.hpp"
+
+namespace {
+
+using namespace suffuse::detail;
+
+constexpr int D = 2, cells = 316;
+constexpr double h = 0.05;
+
+// Points, nodal arrays and the interpolation of one step.
+struct Synthetic {
+  suffuse::Registry registry;
+  suffuse::GridGeometry grid{D, {0.0, 0.0, 0.0}, {h, h, h}, {cells, cells, 1}};
+  std::size_t n = 0, nodes = grid.node_count();
+  int npp = 0;
+  std::vector<double> x, size, mass, volume, velocity, stress, L, strain, porosity, pressure, scalar;
+  std::vector<std::int64_t> ids;
+  std::vector<double> w, dw;
+  std::vector<double> node_mass, node_vector, node_vector2, node_force, node_scalar, node_scalar2;
+  ScatterRanges ranges;
+
+  explicit Synthetic(const char* shape_name) {
+    suffuse::PluginLoader loader(registry);
+    loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
+    const auto shape = registry.create<suffuse::ShapeFunction>(shape_name, {suffuse::Parameters{}, D, "/shape_function"});
+    npp = shape->nodes_per_point(D);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> jitter(-0.05 * h, 0.05 * h), unit(-1, 1);
+    for (int j = 0; j < 2 * cells; ++j)
+      for (int i = 0; i < 2 * cells; ++i) {
+        x.push_back((i + 0.5) * h / 2 + jitter(rng));
+        x.push_back((j + 0.5) * h / 2 + jitter(rng));
+      }
+    n = x.size() / D;
+    size.assign(n * D, h / 2);
+    mass.assign(n, 1.0);
+    volume.assign(n, h * h / 4);
+    porosity.assign(n, 0.3);
+    for (auto* v : {&velocity, &stress, &pressure, &scalar, &L}) {
+      const std::size_t m = v == &velocity ? n * D : v == &stress ? n * 6 : v == &L ? n * D * D : n;
+      for (std::size_t k = 0; k < m; ++k) v->push_back(unit(rng));
+    }
+    strain.assign(n * 6, 0.0);
+    ids.resize(n * npp);
+    w.resize(n * npp);
+    dw.resize(n * npp * D);
+    shape->evaluate(grid, x, size, ids, w, dw);
+    node_mass.assign(nodes, 1.0);
+    node_scalar.assign(nodes, 1.0);
+    node_scalar2.assign(nodes, 0.5);
+    for (auto* v : {&node_vector, &node_vector2, &node_force}) {
+      v->resize(nodes * D);
+      for (double& e : *v) e = unit(rng);
+    }
+    Executor(1).chunk_ranges(ids.data(), npp, n, ranges);
+  }
+};
+
+void done(benchmark::State& state, const Synthetic& s) {
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * s.n));
+}
+
+void shape_functions(benchmark::State& state, const char* shape_name) {
+  Synthetic s(shape_name);
+  const auto shape = s.registry.create<suffuse::ShapeFunction>(shape_name, {suffuse::Parameters{}, D, "/shape_function"});
+  for (auto _ : state) {
+    shape->evaluate(s.grid, s.x, s.size, s.ids, s.w, s.dw);
+    benchmark::DoNotOptimize(s.w.data());
+  }
+  done(state, s);
+}
+
+// The dry points-to-grid scatter through the executor (chunked sums).
+void p2g_dry(benchmark::State& state, const char* shape_name) {
+  Synthetic s(shape_name);
+  Executor exec(static_cast<int>(state.range(0)));
+  const double g[D] = {0, -9.81};
+  for (auto _ : state) {
+    for (auto* v : {&s.node_mass, &s.node_vector, &s.node_force}) std::fill(v->begin(), v->end(), 0.0);
+    ScatterTargets targets(s.ids.data(), s.npp, s.nodes, &s.ranges);
+    targets.add(s.node_mass);
+    targets.add(s.node_vector);
+    targets.add(s.node_force);
+    exec.scatter(s.n, targets, [&](std::size_t b, std::size_t e, double* const* out) {
+      p2g_kernel<D>(b, e, s.npp, s.ids.data(), s.w.data(), s.dw.data(), s.mass.data(), s.volume.data(),
+                    s.velocity.data(), s.stress.data(), g, 1.0, out[0], out[1], out[2]);
+    });
+    benchmark::DoNotOptimize(s.node_force.data());
+  }
+  done(state, s);
+}
+
+// The saturated scatter: eight nodal arrays.
+void p2g_two_phase(benchmark::State& state, const char* shape_name) {
+  Synthetic s(shape_name);
+  std::vector<std::vector<double>> out(8);
+  for (int k = 0; k < 8; ++k) out[k].assign(s.nodes * (k == 1 || k == 2 || k == 4 || k == 5 ? D : 1), 0.0);
+  const std::vector<double> rho_w(s.n, 1000.0), conductivity(s.n, 1e-3);
+  const SaturatedPoints pt{s.mass.data(),     s.volume.data(), s.velocity.data(), s.stress.data(),
+                           s.porosity.data(), s.pressure.data(), s.velocity.data(), s.mass.data(),
+                           conductivity.data(), rho_w.data()};
+  const double g[D] = {0, -9.81};
+  for (auto _ : state) {
+    for (auto& v : out) std::fill(v.begin(), v.end(), 0.0);
+    p2g_saturated<D>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.dw.data(), pt, g, 1.0,
+                     SaturatedNodes{out[0].data(), out[1].data(), out[2].data(), out[3].data(), out[4].data(),
+                                    out[5].data(), out[6].data(), out[7].data()});
+    benchmark::DoNotOptimize(out[2].data());
+  }
+  done(state, s);
+}
+
+void g2p(benchmark::State& state, const char* shape_name) {
+  Synthetic s(shape_name);
+  std::vector<double> u(s.n * D, 0.0);
+  for (auto _ : state) {
+    g2p_kernel<D>(0, s.n, s.npp, 1e-6, s.ids.data(), s.w.data(), s.node_vector.data(), s.node_vector2.data(),
+                  s.x.data(), u.data(), s.velocity.data());
+    benchmark::DoNotOptimize(s.velocity.data());
+  }
+  done(state, s);
+}
+
+void remap(benchmark::State& state, const char* shape_name) {
+  Synthetic s(shape_name);
+  for (auto _ : state) {
+    std::fill(s.node_vector.begin(), s.node_vector.end(), 0.0);
+    remap_kernel<D>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.mass.data(), 1.0, s.velocity.data(),
+                    s.node_vector.data());
+    benchmark::DoNotOptimize(s.node_vector.data());
+  }
+  done(state, s);
+}
+
+void velocity_gradient(benchmark::State& state, const char* shape_name) {
+  Synthetic s(shape_name);
+  for (auto _ : state) {
+    velocity_gradient_kernel<D, true>(0, s.n, s.npp, 1e-9, s.ids.data(), s.dw.data(), s.node_vector.data(), s.L.data(),
+                                      s.strain.data(), s.volume.data());
+    benchmark::DoNotOptimize(s.L.data());
+  }
+  done(state, s);
+}
+
+// Gathers of the transport: each point's share of the nodal changes.
+void transport_share(benchmark::State& state, const char* shape_name) {
+  Synthetic s(shape_name);
+  std::vector<double> per_amount(s.nodes), per_pore(s.nodes), amount(s.n, 1.0);
+  share_rates(s.nodes, s.node_scalar.data(), s.node_scalar.data(), s.node_vector.data(), per_amount.data(),
+              per_pore.data());
+  for (auto _ : state) {
+    g2p_share(0, s.n, s.npp, s.ids.data(), s.w.data(), s.volume.data(), s.porosity.data(), per_amount.data(),
+              per_pore.data(), amount.data());
+    benchmark::DoNotOptimize(amount.data());
+  }
+  done(state, s);
+}
+
+// A phase's stress update through its plugin, on every point.
+void stress_update(benchmark::State& state, bool tension_cutoff) {
+  Synthetic s("shape/linear");
+  suffuse::PointSet points(D);
+  std::map<std::string, suffuse::ParamValue> values{
+      {"density", 2000.0}, {"youngs_modulus", 1e7}, {"poisson_ratio", 0.3}, {"tension_cutoff", tension_cutoff}};
+  const suffuse::Parameters p = s.registry.find("phase/linear_elastic")->schema().complete(values);
+  const auto phase = s.registry.create<suffuse::Phase>("phase/linear_elastic", {p, D, "/materials/soil"});
+  phase->add_fields(points);
+  points.append(s.n);
+  double* L = points.data(points.core().velocity_gradient);
+  double* sigma = points.data(points.core().stress);
+  for (std::size_t k = 0; k < s.n; ++k) {
+    for (int c = 0; c < D * D; ++c) L[k * D * D + c] = 1e-6 * s.L[k * D * D + c];
+    for (int c = 0; c < 6; ++c) sigma[k * 6 + c] = c < 3 ? -1e5 : 1e3 * s.stress[k * 6 + c];
+  }
+  for (auto _ : state) {
+    phase->update_stress(suffuse::StressBatch{points, {0, s.n}, 1.0, {}});
+    benchmark::DoNotOptimize(sigma);
+  }
+  done(state, s);
+}
+
+}  // namespace
+
+#define SHAPES(kernel)                                                             \
+  BENCHMARK_CAPTURE(kernel, linear, "shape/linear")->Unit(benchmark::kMillisecond); \
+  BENCHMARK_CAPTURE(kernel, gimp, "shape/gimp")->Unit(benchmark::kMillisecond)
+
+SHAPES(shape_functions);
+BENCHMARK_CAPTURE(p2g_dry, linear, "shape/linear")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(p2g_dry, gimp, "shape/gimp")->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
+SHAPES(p2g_two_phase);
+SHAPES(g2p);
+SHAPES(remap);
+SHAPES(velocity_gradient);
+SHAPES(transport_share);
+BENCHMARK_CAPTURE(stress_update, linear_elastic, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(stress_update, linear_elastic_cutoff, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();
