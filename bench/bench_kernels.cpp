@@ -167,8 +167,8 @@ void transport_share(benchmark::State& state, const char* shape_name) {
   share_rates(s.nodes, s.node_scalar.data(), s.node_scalar.data(), s.node_vector.data(), per_amount.data(),
               per_pore.data());
   for (auto _ : state) {
-    g2p_share(0, s.n, s.npp, s.ids.data(), s.w.data(), s.volume.data(), s.porosity.data(), per_amount.data(),
-              per_pore.data(), amount.data());
+    g2p_share(0, s.n, s.npp, s.ids.data(), s.w.data(), s.volume.data(), s.porosity.data(),
+              SharedSpecies{{per_amount.data()}, {per_pore.data()}, {amount.data()}});
     benchmark::DoNotOptimize(amount.data());
   }
   done(state, s);

@@ -165,6 +165,7 @@ class Executor {
     const std::size_t chunks = (points + scatter_chunk - 1) / scatter_chunk;
     const std::size_t m = static_cast<std::size_t>(per_point);
     out.resize(chunks);
+    if (chunks <= 1) return;  // one chunk adds into the targets: no range needed
     for_chunks(chunks, [&](int, std::size_t cb, std::size_t ce) {
       for (std::size_t c = cb; c < ce; ++c) {
         std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = -1;

@@ -310,20 +310,29 @@ inline void share_rates(std::size_t nodes, const double* node_pore, const double
   }
 }
 
+// Up to three species in one pass over the points' nodes (null: absent).
+struct SharedSpecies {
+  const double* per_amount[3];
+  const double* per_pore[3];
+  double* amount[3];
+};
+
 inline void g2p_share(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
-                      const double* volume, const double* n, const double* per_amount, const double* per_pore,
-                      double* amount) {
+                      const double* volume, const double* n, const SharedSpecies& species) {
+  const int count = species.amount[2] ? 3 : species.amount[1] ? 2 : 1;
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;
-    const double pore = n[p] * volume[p], held = amount[p];
-    double change = 0;
+    const double pore = n[p] * volume[p];
+    double held[3] = {}, change[3] = {};
+    for (int s = 0; s < count; ++s) held[s] = species.amount[s][p];
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
       // One of the two rates is zero: the sum is the other term exactly.
-      change += w[k] * held * per_amount[I] + w[k] * pore * per_pore[I];
+      for (int s = 0; s < count; ++s)
+        change[s] += w[k] * held[s] * species.per_amount[s][I] + w[k] * pore * species.per_pore[s][I];
     }
-    amount[p] += change;
+    for (int s = 0; s < count; ++s) species.amount[s][p] += change[s];
   }
 }
 

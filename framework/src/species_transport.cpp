@@ -342,15 +342,15 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
     share_rates(nn, node_pore_.data(), node_carrying_.data(), node_dcarrying_.data(), share_carrying_.data(),
                 share_pore_carrying_.data());
   }
+  SharedSpecies shared{{share_liquid_.data()}, {share_pore_liquid_.data()}, {pts.data(m_.liquid_mass)}};
+  if (fines) {
+    shared.per_amount[1] = share_fines_.data(), shared.per_pore[1] = share_pore_fines_.data();
+    shared.amount[1] = pts.data(fines_->suspended_fines);
+    shared.per_amount[2] = share_carrying_.data(), shared.per_pore[2] = share_pore_carrying_.data();
+    shared.amount[2] = pts.data(fines_->carrying_liquid);
+  }
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_liquid_.data(), share_pore_liquid_.data(),
-              pts.data(m_.liquid_mass));
-    if (fines) {
-      g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_fines_.data(), share_pore_fines_.data(),
-                pts.data(fines_->suspended_fines));
-      g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_carrying_.data(),
-                share_pore_carrying_.data(), pts.data(fines_->carrying_liquid));
-    }
+    g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, shared);
     // The momentum balance sees the pores full of the liquid the point
     // carries: n V rho_L, rho_L = c rho_s + (1 - c) rho_w. Not the carried
     // mass itself, which near a free surface inside the grid can pile up
