@@ -19,8 +19,10 @@ using suffuse::detail::ScatterTargets;
 
 // Ten arrays over 700 entries, with 1 to 3 values per entry (more arrays
 // than any stage scatters into); each point adds known amounts to two
-// entries: near its neighbours' (as points that follow the grid do), and
-// every 97th point to the first and the last entry (a chunk spanning all).
+// entries near its neighbours' (as points that follow the grid do), so each
+// chunk's range starts and ends inside the arrays; in the second chunk every
+// 97th point adds to the first and the last entry instead (a chunk spanning
+// all).
 struct ScatterCase {
   static constexpr std::size_t entries = 700;
   std::vector<std::vector<double>> arrays;
@@ -28,10 +30,12 @@ struct ScatterCase {
   std::size_t points;
   explicit ScatterCase(std::size_t points) : points(points) {
     for (int k = 0; k < 10; ++k) arrays.emplace_back(entries * (1 + k % 3), 0.0);
+    const std::size_t chunk = Executor::min_scatter_chunk;
     for (std::size_t p = 0; p < points; ++p) {
       const auto near = static_cast<std::int64_t>((p / 10) % entries);
-      index.push_back(p % 97 == 0 ? 0 : near);
-      index.push_back(p % 97 == 0 ? static_cast<std::int64_t>(entries) - 1 : (near + 1) % static_cast<std::int64_t>(entries));
+      const bool far = p / chunk == 1 && p % 97 == 0;
+      index.push_back(far ? 0 : near);
+      index.push_back(far ? static_cast<std::int64_t>(entries) - 1 : (near + 1) % static_cast<std::int64_t>(entries));
     }
   }
   static double amount(std::size_t p, std::size_t k, int slot) {
@@ -42,10 +46,13 @@ struct ScatterCase {
     for (int slot = 0; slot < 2; ++slot)
       for (std::size_t c = 0; c < m; ++c) out[static_cast<std::size_t>(index[2 * p + slot]) * m + c] += amount(p, k, slot);
   }
-  std::vector<std::vector<double>> run(int threads) {
+  // With the chunks' ranges given (as the shape functions' are) or found by the scatter.
+  std::vector<std::vector<double>> run(int threads, bool given_ranges) {
     for (auto& a : arrays) std::fill(a.begin(), a.end(), 0.0);
     Executor exec(threads);
-    ScatterTargets targets(index.data(), 2, entries);
+    suffuse::detail::ScatterRanges ranges;
+    exec.chunk_ranges(index.data(), 2, points, ranges);
+    ScatterTargets targets(index.data(), 2, entries, given_ranges ? &ranges : nullptr);
     for (auto& a : arrays) targets.add(a);
     exec.scatter(points, targets, [&](std::size_t b, std::size_t e, double* const* out) {
       for (std::size_t p = b; p < e; ++p)
@@ -56,21 +63,43 @@ struct ScatterCase {
 };
 
 // Every contribution arrives, and the sums are bit for bit the same for 1,
-// 2 and 3 threads: in one chunk (500 points) and in several (3.2 chunks).
+// 2 and 3 threads, with the ranges given or not: in one chunk (500 points)
+// and in several (3.2 chunks, the first entry of most ranges above 0).
 TEST(Kernels, ScatterAddsEveryContributionTheSameForAnyThreadCount) {
-  for (std::size_t points : {std::size_t{500}, 3 * Executor::scatter_chunk + 501}) {
+  for (std::size_t points : {std::size_t{500}, 3 * Executor::min_scatter_chunk + 501}) {
     ScatterCase c(points);
     std::vector<std::vector<double>> expected;
     for (const auto& a : c.arrays) expected.emplace_back(a.size(), 0.0);
     for (std::size_t p = 0; p < points; ++p)
       for (std::size_t k = 0; k < expected.size(); ++k) c.add(p, k, expected[k].data());
-    const auto serial = c.run(1);
+    const auto serial = c.run(1, false);
     for (std::size_t k = 0; k < serial.size(); ++k)
       for (std::size_t i = 0; i < serial[k].size(); ++i)
         ASSERT_NEAR(serial[k][i], expected[k][i], 1e-12 * std::abs(expected[k][i]))
             << points << " points, array " << k << ", entry " << i;
-    for (int threads : {2, 3}) EXPECT_EQ(c.run(threads), serial) << points << " points, " << threads << " threads";
+    for (int threads : {1, 2, 3})
+      for (bool given : {false, true})
+        EXPECT_EQ(c.run(threads, given), serial) << points << " points, " << threads << " threads, ranges given " << given;
   }
+  // The chunks' ranges: the first one's near its points, the second's all.
+  Executor exec(1);
+  ScatterCase c(3 * Executor::min_scatter_chunk + 501);
+  suffuse::detail::ScatterRanges ranges;
+  exec.chunk_ranges(c.index.data(), 2, c.points, ranges);
+  ASSERT_EQ(ranges.chunks.size(), 4u);
+  EXPECT_EQ(ranges.chunks[1].first, 0u);
+  EXPECT_EQ(ranges.chunks[1].last, ScatterCase::entries);
+  EXPECT_GT(ranges.chunks[2].first, 0u);
+  EXPECT_LT(ranges.chunks[2].last - ranges.chunks[2].first, ScatterCase::entries / 2);
+}
+
+// The chunk length follows the grid: a chunk spans about one layer of cells
+// (points over the cells along the last axis), never fewer than the minimum.
+TEST(Kernels, ScatterChunksSpanALayerOfCells) {
+  EXPECT_EQ(Executor(1, 40).scatter_chunk(640), Executor::min_scatter_chunk);
+  EXPECT_EQ(Executor(2, 40).scatter_chunk(3'200'000), 80'000u);
+  EXPECT_EQ(Executor(3, 40).scatter_chunk(3'200'001), 80'001u);
+  EXPECT_EQ(Executor(1).scatter_chunk(100'000'000), Executor::min_scatter_chunk);
 }
 
 TEST(Kernels, ScatterTargetsRefuseMoreThanTheirCapacity) {

@@ -23,7 +23,7 @@ void expect_the_same_for_any_thread_count(const nlohmann::json& j, int steps) {
   suffuse::Simulation serial(scene, registry, 1);
   for (int k = 0; k < steps; ++k) serial.step();
   const auto& a = serial.points();
-  ASSERT_GT(a.size(), 3 * suffuse::detail::Executor::scatter_chunk) << "the scene must span several chunks";
+  ASSERT_GT(a.size(), 3 * suffuse::detail::Executor::min_scatter_chunk) << "the scene must span several chunks";
   for (int threads : {2, 3}) {
     suffuse::Simulation parallel(scene, registry, threads);
     for (int k = 0; k < steps; ++k) parallel.step();

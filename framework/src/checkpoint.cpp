@@ -80,12 +80,14 @@ void Simulation::save_checkpoint(const std::filesystem::path& file, const std::v
   h["ledger_values"] = ledger.size();
   h["reaction_values"] = reactions.size();
 
+  const std::string header = std::string(magic) + "\n" + h.dump() + "\n";  // before any file is made
+
   const std::filesystem::path tmp = file.string() + ".part";
   // A scene with nothing else to write has not made its output directory.
   std::error_code ignored;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ignored);
   HashedFile out(tmp);
-  out.put(std::string(magic) + "\n" + h.dump() + "\n");
+  out.put(header);
   for (FieldId f = 0; f < pts.field_count(); ++f) out.put(pts.data(f), pts.values(f).size());
   out.put(ledger.data(), ledger.size());
   out.put(reactions.data(), reactions.size());
@@ -97,11 +99,20 @@ std::vector<std::size_t> Simulation::load_checkpoint(const std::filesystem::path
   const std::string where = "cannot restart from " + file.string() + ": ";
   std::ifstream in(file, std::ios::binary | std::ios::ate);
   if (!in) throw Error(where + "no such file");
-  // Read in one piece, one copy of the file in memory.
-  std::string bytes(static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())), '\0');
-  in.seekg(0);
-  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!in) throw Error(where + "cannot read it");
+  // Read in one piece, one copy of the file in memory; a stream that cannot
+  // tell its size (a pipe) is read to its end.
+  std::string bytes;
+  const std::streamoff size = in.tellg();
+  if (size >= 0 && in.seekg(0)) {
+    bytes.resize(static_cast<std::size_t>(size));
+    in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!in) throw Error(where + "cannot read it");
+  } else {
+    in.clear();
+    std::ostringstream all;
+    all << in.rdbuf();
+    bytes = all.str();
+  }
   const std::size_t first = bytes.find('\n');
   if (first == std::string::npos || bytes.compare(0, first, magic) != 0)
     throw Error(where + "not a suffuse checkpoint (its first line is not \"" + magic + "\")");

@@ -21,7 +21,11 @@ namespace suffuse::detail {
 struct ScatterRange {
   std::size_t first = 0, last = 0;
 };
-using ScatterRanges = std::vector<ScatterRange>;
+// Those of every chunk of `points` points (Executor::chunk_ranges).
+struct ScatterRanges {
+  std::size_t points = 0;
+  std::vector<ScatterRange> chunks;
+};
 
 // The arrays one scatter adds into, and which of their entries each point
 // adds to: `per_point` indices per point in `index` (the shape functions'
@@ -70,11 +74,20 @@ class ScatterTargets {
 
 class Executor {
  public:
-  // Points per scatter chunk: fixed, whatever the thread count, so that the
-  // sums are too. Scenes with fewer points scatter in one pass.
-  static constexpr std::size_t scatter_chunk = 2048;
+  // Points per scatter chunk: at least min_scatter_chunk, and at least the
+  // points over the grid's layers (cells along its last axis), so that a
+  // chunk of points that follow the grid's order spans about one layer of
+  // cells. A chunk's buffer runs over the node numbers its points touch, at
+  // least two node layers in 3D and two rows in 2D: with shorter chunks the
+  // buffers together would hold many copies of the nodal arrays. Fixed by
+  // the points and the grid, whatever the thread count, so the sums are too.
+  static constexpr std::size_t min_scatter_chunk = 2048;
+  std::size_t scatter_chunk(std::size_t points) const {
+    return std::max(min_scatter_chunk, (points + layers_ - 1) / layers_);
+  }
 
-  explicit Executor(int threads) : threads_(std::max(1, threads)), errors_(threads_) {}
+  explicit Executor(int threads, std::size_t layers = std::numeric_limits<std::size_t>::max() / 2)
+      : threads_(std::max(1, threads)), layers_(std::max<std::size_t>(1, layers)), errors_(threads_) {}
 
   int threads() const { return threads_; }
 
@@ -99,7 +112,7 @@ class Executor {
       if (e) std::rethrow_exception(e);
   }
 
-  // Runs kernel(begin, end, arrays) on chunks of scatter_chunk points;
+  // Runs kernel(begin, end, arrays) on chunks of scatter_chunk(points) points;
   // `arrays` are the targets' data in the order they were added. The first
   // chunk adds into the targets; every other one into a buffer over the
   // entries its points touch (the points of a chunk are neighbours when they
@@ -107,14 +120,14 @@ class Executor {
   // are then added into the targets entry by entry in chunk order.
   template <class Kernel>
   void scatter(std::size_t points, const ScatterTargets& targets, Kernel&& kernel) {
-    const std::size_t chunks = (points + scatter_chunk - 1) / scatter_chunk;
+    const std::size_t chunk = scatter_chunk(points), chunks = (points + chunk - 1) / chunk;
     if (chunks <= 1) {
       if (points > 0) kernel(std::size_t{0}, points, targets.arrays());
       return;
     }
-    if (!targets.ranges() || targets.ranges()->size() != chunks)
-      chunk_ranges(targets.index(), targets.per_point(), points, ranges_);
-    const ScatterRanges& ranges = targets.ranges() && targets.ranges()->size() == chunks ? *targets.ranges() : ranges_;
+    const bool cached = targets.ranges() && targets.ranges()->points == points;
+    if (!cached) chunk_ranges(targets.index(), targets.per_point(), points, ranges_);
+    const std::vector<ScatterRange>& ranges = cached ? targets.ranges()->chunks : ranges_.chunks;
     offsets_.resize(chunks);
     std::size_t total = 0;
     for (std::size_t c = 1; c < chunks; ++c) {
@@ -124,7 +137,7 @@ class Executor {
     if (buffer_.size() < total) buffer_.resize(total);
     for_chunks(chunks, [&](int, std::size_t cb, std::size_t ce) {
       for (std::size_t c = cb; c < ce; ++c) {
-        const std::size_t begin = c * scatter_chunk, end = std::min(points, begin + scatter_chunk);
+        const std::size_t begin = c * chunk, end = std::min(points, begin + chunk);
         if (c == 0) {
           kernel(begin, end, targets.arrays());
           continue;
@@ -162,25 +175,28 @@ class Executor {
 
   // The entries each scatter chunk of `points` touches through `index`.
   void chunk_ranges(const std::int64_t* index, int per_point, std::size_t points, ScatterRanges& out) {
-    const std::size_t chunks = (points + scatter_chunk - 1) / scatter_chunk;
+    const std::size_t chunk = scatter_chunk(points), chunks = (points + chunk - 1) / chunk;
     const std::size_t m = static_cast<std::size_t>(per_point);
-    out.resize(chunks);
+    out.points = points;
+    out.chunks.resize(chunks);
     if (chunks <= 1) return;  // one chunk adds into the targets: no range needed
     for_chunks(chunks, [&](int, std::size_t cb, std::size_t ce) {
       for (std::size_t c = cb; c < ce; ++c) {
         std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = -1;
-        const std::size_t end = std::min(points, (c + 1) * scatter_chunk) * m;
-        for (std::size_t k = c * scatter_chunk * m; k < end; ++k) {
+        const std::size_t end = std::min(points, (c + 1) * chunk) * m;
+        for (std::size_t k = c * chunk * m; k < end; ++k) {
           lo = std::min(lo, index[k]);
           hi = std::max(hi, index[k]);
         }
-        out[c] = hi < lo ? ScatterRange{} : ScatterRange{static_cast<std::size_t>(lo), static_cast<std::size_t>(hi) + 1};
+        out.chunks[c] = hi < lo ? ScatterRange{}
+                                : ScatterRange{static_cast<std::size_t>(lo), static_cast<std::size_t>(hi) + 1};
       }
     });
   }
 
  private:
   int threads_;
+  std::size_t layers_;
   std::vector<std::exception_ptr> errors_;  // per thread, for for_chunks
   ScatterRanges ranges_;                    // per scatter chunk: the entries it touches, when not given
   std::vector<std::size_t> offsets_;        // per scatter chunk: where its buffer starts
