@@ -136,12 +136,10 @@ void SaturatedMixture::grid_to_points(double dt) {
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
-  auto solid = d_.dim() == 2 ? &g2p_kernel<2> : &g2p_kernel<3>;
-  auto liquid = d_.dim() == 2 ? &g2p_velocity<2> : &g2p_velocity<3>;
+  auto kernel = d_.dim() == 2 ? &g2p_two_phase<2> : &g2p_two_phase<3>;
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    solid(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(), d_.nodes.acceleration.data(),
-          pts.data(c.position), pts.data(c.displacement), pts.data(c.velocity));
-    liquid(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.liquid_acceleration.data(),
+    kernel(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(), d_.nodes.acceleration.data(),
+           d_.nodes.liquid_acceleration.data(), pts.data(c.position), pts.data(c.displacement), pts.data(c.velocity),
            pts.data(f_.liquid_velocity));
   });
 }
@@ -153,15 +151,13 @@ void SaturatedMixture::remap() {
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
-  auto kernel = d_.dim() == 2 ? &remap_kernel<2> : &remap_kernel<3>;
+  auto kernel = d_.dim() == 2 ? &remap_two_phase<2> : &remap_two_phase<3>;
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(n.momentum);
   targets.add(n.liquid_momentum);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.mass), mass_scaling_, pts.data(c.velocity),
-           out[0]);
-    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(f_.moving_liquid_mass), mass_scaling_,
-           pts.data(f_.liquid_velocity), out[1]);
+    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.mass), pts.data(f_.moving_liquid_mass),
+           mass_scaling_, pts.data(c.velocity), pts.data(f_.liquid_velocity), out[0], out[1]);
   });
   auto velocity = d_.dim() == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {

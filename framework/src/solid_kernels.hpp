@@ -120,20 +120,6 @@ void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const st
   }
 }
 
-// Velocity of one phase from the nodal acceleration (FLIP), positions untouched.
-template <int D>
-void g2p_velocity(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* w,
-                  const double* node_acc, double* vel) {
-  for (std::size_t p = begin; p < end; ++p) {
-    double dv[D] = {};
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      for (int i = 0; i < D; ++i) dv[i] += w[k] * node_acc[ids[k] * D + i];
-    }
-    for (int i = 0; i < D; ++i) vel[p * D + i] += dt * dv[i];
-  }
-}
-
 template <int D>
 void remap_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
                   const double* mass, double scale, const double* vel, double* node_mom) {

@@ -85,6 +85,54 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
   }
 }
 
+// Grid to points for both phases in one pass over the points' nodes: the
+// skeleton as g2p_kernel (FLIP velocity, positions and displacements from
+// the nodal velocity), the liquid's velocity by FLIP alone.
+template <int D>
+void g2p_two_phase(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
+                   const double* w, const double* node_vel, const double* node_acc, const double* node_liquid_acc,
+                   double* x, double* u, double* vel, double* liquid_vel) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double dv[D] = {}, vg[D] = {}, dvl[D] = {};
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      for (int i = 0; i < D; ++i) {
+        dv[i] += w[k] * node_acc[I * D + i];
+        vg[i] += w[k] * node_vel[I * D + i];
+        dvl[i] += w[k] * node_liquid_acc[I * D + i];
+      }
+    }
+    for (int i = 0; i < D; ++i) {
+      vel[p * D + i] += dt * dv[i];
+      x[p * D + i] += dt * vg[i];
+      u[p * D + i] += dt * vg[i];
+      liquid_vel[p * D + i] += dt * dvl[i];
+    }
+  }
+}
+
+// The MUSL remap of both phases' momenta in one pass (remap_kernel's sums).
+template <int D>
+void remap_two_phase(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+                     const double* mass, const double* liquid_mass, double scale, const double* vel,
+                     const double* liquid_vel, double* node_mom, double* node_liquid_mom) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const double m = scale * mass[p], ml = scale * liquid_mass[p];
+    double v[D], vl[D];
+    for (int i = 0; i < D; ++i) v[i] = vel[p * D + i], vl[i] = liquid_vel[p * D + i];
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t k = p * npp + a;
+      const std::int64_t I = ids[k];
+      const double wm = w[k] * m, wml = w[k] * ml;
+      for (int i = 0; i < D; ++i) {
+        node_mom[I * D + i] += wm * v[i];
+        node_liquid_mom[I * D + i] += wml * vl[i];
+      }
+    }
+  }
+}
+
 // Liquid acceleration from its own forces and the drag, then the solid's from
 // the mixture balance. Writes the new (unconstrained) velocities.
 template <int D>
