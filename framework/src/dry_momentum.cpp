@@ -43,7 +43,8 @@ void DryMomentum::grid_to_points(double dt) {
   auto kernel = d_.dim() == 2 ? &g2p_kernel<2> : &g2p_kernel<3>;
   d_.exec.for_chunks(d_.points.size(), [&](int, std::size_t b, std::size_t e) {
     kernel(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(), d_.nodes.acceleration.data(),
-           d_.points.data(f.position), d_.points.data(f.displacement), d_.points.data(f.velocity));
+           d_.points.data(f.position), d_.points.data(f.displacement), d_.points.data(f.velocity), nullptr,
+           nullptr);
   });
 }
 

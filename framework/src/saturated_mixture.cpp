@@ -136,10 +136,10 @@ void SaturatedMixture::grid_to_points(double dt) {
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
-  auto kernel = d_.dim() == 2 ? &g2p_two_phase<2> : &g2p_two_phase<3>;
+  auto kernel = d_.dim() == 2 ? &g2p_kernel<2, true> : &g2p_kernel<3, true>;
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
     kernel(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(), d_.nodes.acceleration.data(),
-           d_.nodes.liquid_acceleration.data(), pts.data(c.position), pts.data(c.displacement), pts.data(c.velocity),
+           pts.data(c.position), pts.data(c.displacement), pts.data(c.velocity), d_.nodes.liquid_acceleration.data(),
            pts.data(f_.liquid_velocity));
   });
 }

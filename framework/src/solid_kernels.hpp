@@ -99,23 +99,29 @@ void acceleration_kernel(std::size_t begin, std::size_t end, double dt, const do
   }
 }
 
-template <int D>
+// Grid to points: FLIP velocity from the nodal acceleration, positions and
+// displacements from the nodal velocity. WithLiquid: the pore liquid's FLIP
+// velocity too, in the same pass over the points' nodes (the two-phase step).
+template <int D, bool WithLiquid = false>
 void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* w,
-                const double* node_vel, const double* node_acc, double* x, double* u, double* vel) {
+                const double* node_vel, const double* node_acc, double* x, double* u, double* vel,
+                const double* node_liquid_acc = nullptr, double* liquid_vel = nullptr) {
   for (std::size_t p = begin; p < end; ++p) {
-    double dv[D] = {}, vg[D] = {};
+    double dv[D] = {}, vg[D] = {}, dvl[D] = {};
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
       const std::int64_t I = ids[k];
       for (int i = 0; i < D; ++i) {
         dv[i] += w[k] * node_acc[I * D + i];
         vg[i] += w[k] * node_vel[I * D + i];
+        if constexpr (WithLiquid) dvl[i] += w[k] * node_liquid_acc[I * D + i];
       }
     }
     for (int i = 0; i < D; ++i) {
-      vel[p * D + i] += dt * dv[i];  // FLIP: velocity from the nodal acceleration
+      vel[p * D + i] += dt * dv[i];
       x[p * D + i] += dt * vg[i];
       u[p * D + i] += dt * vg[i];
+      if constexpr (WithLiquid) liquid_vel[p * D + i] += dt * dvl[i];
     }
   }
 }

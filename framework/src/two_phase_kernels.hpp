@@ -85,33 +85,6 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
   }
 }
 
-// Grid to points for both phases in one pass over the points' nodes: the
-// skeleton as g2p_kernel (FLIP velocity, positions and displacements from
-// the nodal velocity), the liquid's velocity by FLIP alone.
-template <int D>
-void g2p_two_phase(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
-                   const double* w, const double* node_vel, const double* node_acc, const double* node_liquid_acc,
-                   double* x, double* u, double* vel, double* liquid_vel) {
-  for (std::size_t p = begin; p < end; ++p) {
-    double dv[D] = {}, vg[D] = {}, dvl[D] = {};
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      for (int i = 0; i < D; ++i) {
-        dv[i] += w[k] * node_acc[I * D + i];
-        vg[i] += w[k] * node_vel[I * D + i];
-        dvl[i] += w[k] * node_liquid_acc[I * D + i];
-      }
-    }
-    for (int i = 0; i < D; ++i) {
-      vel[p * D + i] += dt * dv[i];
-      x[p * D + i] += dt * vg[i];
-      u[p * D + i] += dt * vg[i];
-      liquid_vel[p * D + i] += dt * dvl[i];
-    }
-  }
-}
-
 // The MUSL remap of both phases' momenta in one pass (remap_kernel's sums).
 template <int D>
 void remap_two_phase(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
