@@ -34,8 +34,9 @@ ParameterSchema body_schema() {
   s.number("concentration").with_unit("-").at_least(0).at_most(1).fallback(0.0).doc(
       "Initial concentration c of suspended fines in the pore liquid: volume of fines / volume of liquid");
   s.number("k0").with_unit("-").at_least(0).may_be_absent().doc(
-      "Adds the geostatic effective stress of the body's own weight below its top (buoyant weight if saturated), "
-      "with horizontal stress k0 times the vertical");
+      "Adds the geostatic effective stress: the total weight above each point (the body's soil and pore liquid, "
+      "the bodies stacked on it, water ponded above its water table) less the hydrostatic pore pressure, with "
+      "horizontal stress k0 times the vertical");
   s.string("gradation").may_be_absent().doc(
       "The soil's particle-size distribution: a PSD file, CSV with the units in its header (\"size [mm], "
       "passing [%]\") or JSON, relative to the scene file. validate reports the internal-stability criteria on it "

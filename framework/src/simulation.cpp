@@ -6,6 +6,7 @@
 
 #include "domain.hpp"
 #include "dry_momentum.hpp"
+#include "geostatic_stress.hpp"
 #include "grid_projection.hpp"
 #include "memory_estimate.hpp"
 #include "scene_reader.hpp"
@@ -17,6 +18,7 @@
 #include "species_transport.hpp"
 #include "stage_timer.hpp"
 #include "suffuse/error.hpp"
+#include "suffuse/liquid.hpp"
 
 namespace suffuse {
 
@@ -123,32 +125,36 @@ void Simulation::check_time_step() const {
 Simulation::~Simulation() = default;
 
 void Simulation::create_bodies() {
-  for (const BodySpec& body : scene_.bodies) {
+  const std::vector<double> weights = unit_weights();
+  const double g = -scene_.gravity[scene_.dim - 1];  // along the vertical (last) axis, downward
+  for (std::size_t i = 0; i < scene_.bodies.size(); ++i) {
+    const BodySpec& body = scene_.bodies[i];
     const Phase& phase = materials_->phase(body.material);
     const detail::BodyPoints b = domain_->create_body(body, phase.density());
     if (mixture_) mixture_->initialise(body, b);
     if (species_) species_->initialise(body, b);
-    set_geostatic_stress(body, b.range.begin, b.range.end);
+    const double rho_w = body.liquid ? mixture_->liquid(*body.liquid).density() : 0.0;
+    detail::add_geostatic_stress(scene_, weights, i, rho_w, g, domain_->points, b.range);
     phase.initialise(domain_->points, b.range);
   }
   if (species_) species_->start_ledger();
 }
 
-void Simulation::set_geostatic_stress(const BodySpec& body, std::size_t begin, std::size_t end) {
-  if (!body.k0) return;
-  // Vertical axis: the last one; g: the gravity component along it, downward.
-  const int dim = scene_.dim, v = dim - 1;
-  const double g = -scene_.gravity[v];
-  PointSet& points = domain_->points;
-  const double* x = points.data(points.core().position);
-  double* s = points.data(points.core().stress);
-  const double rho = materials_->phase(body.material).density();
-  const double unit_weight =
-      body.liquid ? (1 - body.porosity) * (rho - mixture_->liquid(*body.liquid).density()) * g : rho * g;
-  for (std::size_t p = begin; p < end; ++p) {
-    const double sv = -unit_weight * (body.max[v] - x[p * dim + v]);
-    for (int a = 0; a < 3; ++a) s[p * 6 + a] += (a == v ? 1.0 : *body.k0) * sv;
+// Each body's total unit weight: its grains, and the liquid (with the fines
+// it carries) filling its pores if saturated.
+std::vector<double> Simulation::unit_weights() const {
+  const double g = -scene_.gravity[scene_.dim - 1];
+  std::vector<double> weights;
+  for (const BodySpec& body : scene_.bodies) {
+    const double rho_s = materials_->phase(body.material).density();
+    double rho = rho_s;
+    if (body.liquid) {
+      const double rho_l = suspension_density(body.concentration, rho_s, mixture_->liquid(*body.liquid).density());
+      rho = (1 - body.porosity) * rho_s + body.porosity * rho_l;
+    }
+    weights.push_back(rho * g);
   }
+  return weights;
 }
 
 double Simulation::critical_time_step() const {

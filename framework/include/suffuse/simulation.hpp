@@ -180,7 +180,7 @@ class Simulation {
   void step_explicit();
   void step_quasi_static();
   void create_bodies();
-  void set_geostatic_stress(const BodySpec& body, std::size_t begin, std::size_t end);
+  std::vector<double> unit_weights() const;
   void apply_loads(double time);  // boundary conditions' external forces
   void constrain_velocity(double time);
   // The same, measuring the reactions the scene asks for (the grid update's).
