@@ -19,6 +19,7 @@ namespace suffuse::detail {
 
 namespace {
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double min_cover = 1e-4;
 }  // namespace
 
 QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& materials, SaturatedMixture* mixture,
@@ -68,6 +69,7 @@ void QuasiStatic::prepare(double time, double dt) {
 
   // Nodal masses (gravity), pore volumes and the old pressures projected.
   for (auto* v : {&node_mass_, &node_pore_, &node_volume_, &p_}) std::fill(v->begin(), v->end(), 0.0);
+  node_cover_.assign(nn, 0.0);
   std::fill(f_ext_.begin(), f_ext_.end(), 0.0);
   std::fill(cell_count_.begin(), cell_count_.end(), 0);
   const auto& g = scene_.gravity;
@@ -80,6 +82,7 @@ void QuasiStatic::prepare(double time, double dt) {
       const std::int64_t I = s.ids[k];
       const double N = s.weights[k];
       node_mass_[I] += N * m[p];
+      node_cover_[I] += N * V[p];
       for (int i = 0; i < dim; ++i) f_ext_[I * dim + i] += N * weight * g[i];
       if (!wet) continue;
       node_pore_[I] += N * n[p] * V[p];
@@ -128,17 +131,39 @@ void QuasiStatic::prepare(double time, double dt) {
 
   // Displacement unknowns: components of nodes with mass, unless constrained.
   equations_ = 0;
+  tail_nodes_.clear();
+  tail_mark_.assign(nn, 0);
+  double cell_volume = 1;
+  for (int a = 0; a < dim; ++a) cell_volume *= d_.grid.cell_size()[a];
   u_dof_.assign(nn * dim, -1);
   for (std::size_t I = 0; I < nn; ++I)
     for (int i = 0; i < dim; ++i) {
       const std::size_t k = I * dim + i;
       du_[k] = 0;
       if (node_mass_[I] <= 0) continue;
+      if (std::isnan(probe_.velocity[k]) && node_cover_[I] < min_cover * cell_volume) {
+        if (!tail_mark_[I]) tail_nodes_.push_back(static_cast<std::int64_t>(I));
+        tail_mark_[I] = 1;
+        continue;
+      }
       if (std::isnan(probe_.velocity[k]))
         u_dof_[k] = static_cast<std::int64_t>(equations_++);
       else
         du_[k] = probe_.velocity[k] * dt;
     }
+
+  tail_points_.clear();
+  if (!tail_nodes_.empty()) {
+    tail_sum_.assign(nn * dim, 0.0);
+    tail_weight_.assign(nn, 0.0);
+    for (std::size_t p = 0; p < pts.size(); ++p)
+      for (int a = 0; a < s.npp; ++a)
+        if (tail_mark_[static_cast<std::size_t>(s.ids[p * s.npp + a])]) {
+          tail_points_.push_back(p);
+          break;
+        }
+  }
+  follow_tail_nodes();  // the constrained increments
 
   // Pressure unknowns: nodes with pore volume, unless a face open to the
   // liquid or a free surface fixes their pressure.
@@ -212,6 +237,41 @@ void QuasiStatic::prepare(double time, double dt) {
       b_p_[I] += s.weights[q] * storage + dt * V[p] * k * rho_l[p] * g_dot;
     }
   }
+}
+
+void QuasiStatic::follow_tail_nodes() {
+  if (tail_nodes_.empty()) return;
+  const int dim = d_.dim();
+  const Interpolation& s = d_.shape;
+  const double* m = d_.points.data(d_.points.core().mass);
+  for (const std::int64_t I : tail_nodes_) {
+    tail_weight_[I] = 0;
+    for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] = 0;
+  }
+  for (const std::size_t p : tail_points_) {
+    double du[3] = {0, 0, 0}, w = 0;
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t q = p * s.npp + a;
+      const std::int64_t I = s.ids[q];
+      if (tail_mark_[I]) continue;
+      w += s.weights[q];
+      for (int i = 0; i < dim; ++i) du[i] += s.weights[q] * du_[I * dim + i];
+    }
+    if (w <= 0) continue;  // a point only tail nodes reach: it stays
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t q = p * s.npp + a;
+      const std::int64_t I = s.ids[q];
+      if (!tail_mark_[I]) continue;
+      const double c = s.weights[q] * m[p];
+      tail_weight_[I] += c;
+      for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] += c * du[i] / w;
+    }
+  }
+  for (const std::int64_t I : tail_nodes_)
+    for (int i = 0; i < dim; ++i) {
+      const std::size_t k = static_cast<std::size_t>(I) * dim + i;
+      if (tail_weight_[I] > 0 && std::isnan(probe_.velocity[k])) du_[k] = tail_sum_[k] / tail_weight_[I];
+    }
 }
 
 // The stresses of the current increments (each phase's own update from the
@@ -313,12 +373,31 @@ bool QuasiStatic::newton(double dt, int& iterations) {
   };
   std::vector<double>& du0 = du_previous_;
   std::vector<double>& p0 = p_previous_;
+  // Whether a correction changes no displacement and no pressure by more
+  // than round-off of the largest.
+  auto round_off = [&](const Eigen::VectorXd& delta) {
+    double u = 0, p = 0, du = 0, dp = 0;
+    for (std::size_t k = 0; k < u_dof_.size(); ++k) {
+      u = std::max(u, std::abs(du_[k]));
+      if (u_dof_[k] >= 0) du = std::max(du, std::abs(delta[u_dof_[k]]));
+    }
+    for (std::size_t I = 0; I < p_dof_.size(); ++I) {
+      p = std::max(p, std::abs(p_[I]));
+      if (p_dof_[I] >= 0) dp = std::max(dp, std::abs(delta[p_dof_[I]]));
+    }
+    return u > 0 && du <= 1e-12 * u && dp <= 1e-12 * p;
+  };
+  bool last_step_is_round_off = false;
   restore_state();
   double norm = evaluate(dt);
   for (int iteration = 0;; ++iteration) {
     if (!std::isfinite(norm)) break;
     // The first evaluation has the old pressures: at least one solve.
     if (iteration > 0 && norm <= control.newton_tolerance * force_scale_) return true;
+    // Or the last full Newton step changed the increments by round-off: a
+    // body moved only by its constraints (a translation) has no forces to
+    // compare the residual with.
+    if (iteration > 1 && last_step_is_round_off) return true;
     if (iteration == control.max_iterations) break;
     ++iterations;
     materials_.tangent(d_, dt, tangent_);
@@ -336,11 +415,13 @@ bool QuasiStatic::newton(double dt, int& iterations) {
         if (u_dof_[k] >= 0) du_[k] = du0[k] + alpha * delta[u_dof_[k]];
       for (std::size_t I = 0; I < p_dof_.size(); ++I)
         if (p_dof_[I] >= 0) p_[I] = p0[I] + alpha * delta[p_dof_[I]];
+      follow_tail_nodes();
       restore_state();
       norm = evaluate(dt);
       if (halving == 6 || (std::isfinite(norm) && merit() <= (1 - 1e-4 * alpha) * before)) break;
       alpha /= 2;
     }
+    last_step_is_round_off = alpha == 1 && round_off(delta);
   }
   describe_failure();
   restore_state();

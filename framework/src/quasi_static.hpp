@@ -93,6 +93,10 @@ class QuasiStatic {
   void prepare_blocks();  // the node pairs the matrix couples, after prepare
   void assemble(double dt);  // the matrix, from the tangents at the iterate
   void describe_failure();  // failure_, from the last iterate
+  // du of the tail nodes: the mean, weighted by N m, of the increments the
+  // other nodes give the points they reach (a translation or rotation of
+  // the body carries them along, a sliver of a point adds no strain).
+  void follow_tail_nodes();
 
   const Scene& scene_;
   Domain& d_;
@@ -109,6 +113,15 @@ class QuasiStatic {
   std::vector<double> du_previous_, p_previous_;  // the last iterate, for the line search
   std::vector<double> f_ext_, b_p_;          // loads: mixture forces; pressure equations' right-hand side
   std::vector<double> node_mass_, node_pore_, node_volume_;
+  // Nodes a body barely reaches (sum N V below min_cover of the nodal
+  // volume: a point's support crossing a node's edge by a sliver). Their
+  // stiffness is nearly nil, and solved for they swing by metres, straining
+  // the points they touch; they have no unknowns and follow the points.
+  std::vector<double> node_cover_;             // per node: sum N V over every point
+  std::vector<std::int64_t> tail_nodes_;       // the nodes left without unknowns
+  std::vector<std::size_t> tail_points_;       // the points that reach one
+  std::vector<char> tail_mark_;                // per node: one of tail_nodes_
+  std::vector<double> tail_sum_, tail_weight_;  // per node: work arrays of follow_tail_nodes
   std::vector<double> residual_;             // per equation
   std::vector<double> creep_;                // per node component: the regularising stiffness
   std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual
