@@ -28,6 +28,12 @@
 // from step to step, while its dilation raises its permeability, until
 // equilibrium returns (as explicit runs show). Nowhere else.
 //
+// A node the body barely reaches (the points' sum N V below 1e-4 of the
+// nodal volume: a point's support crossing into its cell by a sliver) has
+// almost no stiffness; solved for, its increment is ill-determined and
+// swings by metres, straining the points it touches. Such nodes have no
+// unknowns: they follow the points they touch (follow_tail_nodes).
+//
 // Boundary conditions are read from the plugins' own effects on the nodes:
 // a velocity constraint fixes du = v dt; a face a condition opens to the
 // liquid fixes p there (bc/pore_pressure, the pressure read from its force
