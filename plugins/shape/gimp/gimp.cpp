@@ -39,21 +39,29 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
   const auto& h = grid.cell_size();
   const auto& nodes = grid.nodes_per_axis();
   const double inv_h[3] = {1 / h[0], 1 / h[1], 1 / h[2]};
+  const std::int64_t stride[3] = {1, grid.node_index(0, 1, 0), grid.node_index(0, 0, 1)};
   for (std::size_t p = 0; p < n; ++p) {
     double s1[3][3] = {}, d1[3][3] = {};
     bool valid[3][3] = {{true, true, true}, {true, true, true}, {true, true, true}};
     int node[3][3] = {};  // clamped to the grid: a missing node's slot names its neighbour, with weight 0
+    bool interior = true;
     for (int a = 0; a < D; ++a) {
       const double lp = std::min(0.5 * size[p * D + a], 0.5 * h[a]), inv_hlp = 1 / (h[a] * lp);
       const double xi = (x[p * D + a] - o[a]) * inv_h[a];
-      // The nearest node and its two neighbours (floor(xi + 1/2): lround
-      // is a library call, and the two differ only for xi < 0, outside).
-      const int base = static_cast<int>(std::floor(xi + 0.5)) - 1;
+      // The nearest node and its two neighbours: floor(xi + 1/2), which a
+      // truncation gives without a library call, as the point is in the
+      // grid (xi >= 0 up to round-off).
+      const int base = static_cast<int>(xi + 0.5) - 1;
       for (int k = 0; k < 3; ++k) {
         const int i = base + k;
-        valid[a][k] = i >= 0 && i < nodes[a];
-        node[a][k] = std::clamp(i, 0, nodes[a] - 1);
         gimp_1d(x[p * D + a] - (o[a] + i * h[a]), h[a], lp, inv_h[a], inv_hlp, s1[a][k], d1[a][k]);
+      }
+      for (int k = 0; k < 3; ++k) node[a][k] = base + k;
+      if (base >= 0 && base + 2 < nodes[a]) continue;
+      interior = false;
+      for (int k = 0; k < 3; ++k) {
+        valid[a][k] = node[a][k] >= 0 && node[a][k] < nodes[a];
+        node[a][k] = std::clamp(node[a][k], 0, nodes[a] - 1);
       }
       // Outermost first, so a weight passed inwards is passed on again if
       // the next node is missing too.
@@ -65,27 +73,43 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
         s1[a][k] = d1[a][k] = 0;
       }
     }
+    // The weight of slot (i, j, l) and its gradient, from the 1D factors.
+    const auto put = [&](std::size_t slot, int i, int j, int l) {
+      double* g = dw + slot * D;
+      if constexpr (D == 2) {
+        w[slot] = s1[0][i] * s1[1][j];
+        g[0] = d1[0][i] * s1[1][j];
+        g[1] = d1[1][j] * s1[0][i];
+      } else {
+        w[slot] = s1[0][i] * s1[1][j] * s1[2][l];
+        g[0] = d1[0][i] * s1[1][j] * s1[2][l];
+        g[1] = d1[1][j] * s1[0][i] * s1[2][l];
+        g[2] = d1[2][l] * s1[0][i] * s1[1][j];
+      }
+    };
     std::size_t slot = p * npp;
     constexpr int layers = D == 3 ? 3 : 1;
+    if (interior) {
+      // Every node of the support is in the grid (nearly every point): the
+      // ids step by the grid's strides, and no weight was lumped.
+      const std::int64_t first = grid.node_index(node[0][0], node[1][0], D == 3 ? node[2][0] : 0);
+      for (int l = 0; l < layers; ++l)
+        for (int j = 0; j < 3; ++j)
+          for (int i = 0; i < 3; ++i, ++slot) {
+            ids[slot] = first + i + j * stride[1] + l * stride[2];
+            put(slot, i, j, l);
+          }
+      continue;
+    }
     for (int l = 0; l < layers; ++l)
       for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i, ++slot) {
           ids[slot] = grid.node_index(node[0][i], node[1][j], D == 3 ? node[2][l] : 0);
-          double* g = dw + slot * D;
-          if (!(valid[0][i] && valid[1][j] && (D == 2 || valid[2][l]))) {
-            w[slot] = 0;
-            for (int a = 0; a < D; ++a) g[a] = 0;
-            continue;
-          }
-          if constexpr (D == 2) {
-            w[slot] = s1[0][i] * s1[1][j];
-            g[0] = d1[0][i] * s1[1][j];
-            g[1] = d1[1][j] * s1[0][i];
+          if (valid[0][i] && valid[1][j] && (D == 2 || valid[2][l])) {
+            put(slot, i, j, l);
           } else {
-            w[slot] = s1[0][i] * s1[1][j] * s1[2][l];
-            g[0] = d1[0][i] * s1[1][j] * s1[2][l];
-            g[1] = d1[1][j] * s1[0][i] * s1[2][l];
-            g[2] = d1[2][l] * s1[0][i] * s1[1][j];
+            w[slot] = 0;
+            for (int a = 0; a < D; ++a) dw[slot * D + a] = 0;
           }
         }
   }
