@@ -32,7 +32,7 @@ struct Synthetic {
   std::size_t n = 0, nodes = grid.node_count();
   int npp = 0;
   std::vector<double> x, size, mass, volume, velocity, stress, L, strain, porosity, pressure, scalar;
-  std::vector<std::int64_t> ids;
+  std::vector<suffuse::NodeId> ids;
   std::vector<double> w, dw;
   std::vector<double> node_mass, node_vector, node_vector2, node_force, node_scalar, node_scalar2;
   ScatterRanges ranges;

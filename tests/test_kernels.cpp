@@ -26,7 +26,7 @@ using suffuse::detail::ScatterTargets;
 struct ScatterCase {
   static constexpr std::size_t entries = 700;
   std::vector<std::vector<double>> arrays;
-  std::vector<std::int64_t> index;
+  std::vector<suffuse::NodeId> index;
   std::size_t points;
   explicit ScatterCase(std::size_t points) : points(points) {
     for (int k = 0; k < 10; ++k) arrays.emplace_back(entries * (1 + k % 3), 0.0);

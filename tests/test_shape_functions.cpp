@@ -45,7 +45,7 @@ TEST_P(ShapeFunctions, PartitionOfUnityAndLinearReproduction) {
       x[dim + a] = grid.upper(a);
     }
   }
-  std::vector<std::int64_t> ids(n * npp);
+  std::vector<suffuse::NodeId> ids(n * npp);
   std::vector<double> w(n * npp), dw(n * npp * dim);
   shape->evaluate(grid, x, sizes, ids, w, dw);
 
@@ -97,7 +97,7 @@ TEST(ShapeFunctions, GimpIsContinuousAcrossCellFaces) {
   const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
   const double eps = 1e-9;
   const std::vector<double> x = {2 - eps, 1.5, 2 + eps, 1.5}, sizes = {0.5, 0.5, 0.5, 0.5};
-  std::vector<std::int64_t> ids(18);
+  std::vector<suffuse::NodeId> ids(18);
   std::vector<double> w(18), dw(36);
   gimp->evaluate(grid, x, sizes, ids, w, dw);
   // Sum each node's weight and x-gradient over both points' stencils, per point.
@@ -128,7 +128,7 @@ TEST(ShapeFunctions, GimpKeepsPartitionOfUnityAtTheGridBoundary) {
   const std::vector<double> x = {0.1, 2.0, 3.9, 0.05, 0.25, 3.75, 2.5, 0.2};
   const std::vector<double> sizes(x.size(), 0.5);
   const std::size_t n = x.size() / 2;
-  std::vector<std::int64_t> ids(9 * n);
+  std::vector<suffuse::NodeId> ids(9 * n);
   std::vector<double> w(9 * n), dw(18 * n);
   gimp->evaluate(grid, x, sizes, ids, w, dw);
   for (std::size_t p = 0; p < n; ++p) {

@@ -30,7 +30,7 @@ struct BodyPoints {
 // nodes ids[p*npp + a] with weights[p*npp + a] and gradients[(p*npp + a)*dim + i].
 struct Interpolation {
   int npp = 0;  // nodes per point
-  std::vector<std::int64_t> ids;
+  std::vector<NodeId> ids;
   std::vector<double> weights, gradients;
   ScatterRanges chunks;  // the nodes each scatter chunk touches, for every nodal scatter of the step
 };
@@ -74,7 +74,7 @@ class Domain {
   // the volume-weighted mean of its cell's (B-bar-like; removes the locking
   // of isochoric plastic flow on low-order shape functions).
   bool average_volumetric_rate_;
-  std::vector<std::int64_t> point_cell_;
+  std::vector<NodeId> point_cell_;
   ScatterRanges point_cell_chunks_;
   std::vector<double> cell_volume_, cell_rate_;
 };

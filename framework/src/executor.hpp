@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "suffuse/error.hpp"
+#include "suffuse/grid.hpp"
 
 namespace suffuse::detail {
 
@@ -37,7 +38,7 @@ struct ScatterRanges {
 class ScatterTargets {
  public:
   static constexpr int capacity = 16;
-  ScatterTargets(const std::int64_t* index, int per_point, std::size_t entries,
+  ScatterTargets(const NodeId* index, int per_point, std::size_t entries,
                  const ScatterRanges* ranges = nullptr)
       : index_(index), per_point_(per_point), entries_(entries), ranges_(ranges) {}
   void add(std::vector<double>& v) {
@@ -57,13 +58,13 @@ class ScatterTargets {
     for (int k = 0; k < count_; ++k) n += components_[k];
     return n;
   }
-  const std::int64_t* index() const { return index_; }
+  const NodeId* index() const { return index_; }
   int per_point() const { return per_point_; }
   std::size_t entries() const { return entries_; }
   const ScatterRanges* ranges() const { return ranges_; }
 
  private:
-  const std::int64_t* index_;
+  const NodeId* index_;
   int per_point_;
   std::size_t entries_;
   const ScatterRanges* ranges_;
@@ -174,7 +175,7 @@ class Executor {
   }
 
   // The entries each scatter chunk of `points` touches through `index`.
-  void chunk_ranges(const std::int64_t* index, int per_point, std::size_t points, ScatterRanges& out) {
+  void chunk_ranges(const NodeId* index, int per_point, std::size_t points, ScatterRanges& out) {
     const std::size_t chunk = scatter_chunk(points), chunks = (points + chunk - 1) / chunk;
     const std::size_t m = static_cast<std::size_t>(per_point);
     out.points = points;
@@ -182,7 +183,7 @@ class Executor {
     if (chunks <= 1) return;  // one chunk adds into the targets: no range needed
     for_chunks(chunks, [&](int, std::size_t cb, std::size_t ce) {
       for (std::size_t c = cb; c < ce; ++c) {
-        std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = -1;
+        NodeId lo = std::numeric_limits<NodeId>::max(), hi = -1;
         const std::size_t end = std::min(points, (c + 1) * chunk) * m;
         for (std::size_t k = c * chunk * m; k < end; ++k) {
           lo = std::min(lo, index[k]);

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "suffuse/grid.hpp"
 #include "suffuse/tensor.hpp"
 
 namespace suffuse::detail {
@@ -43,7 +44,7 @@ inline double undamped(double damped_force, double velocity, double damping) {
 // arrays could alias it for all the compiler knows, and it would reload it
 // after every store. The products keep their order (bit for bit the same).
 template <int D>
-void p2g_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w, const double* dw,
+void p2g_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w, const double* dw,
                 const double* mass, const double* volume, const double* vel, const double* stress,
                 const double* g, double scale, double* node_mass, double* node_mom, double* node_force) {
   double gravity[D];
@@ -103,7 +104,7 @@ void acceleration_kernel(std::size_t begin, std::size_t end, double dt, const do
 // displacements from the nodal velocity. WithLiquid: the pore liquid's FLIP
 // velocity too, in the same pass over the points' nodes (the two-phase step).
 template <int D, bool WithLiquid = false>
-void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* w,
+void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids, const double* w,
                 const double* node_vel, const double* node_acc, double* x, double* u, double* vel,
                 const double* node_liquid_acc = nullptr, double* liquid_vel = nullptr) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -127,7 +128,7 @@ void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const st
 }
 
 template <int D>
-void remap_kernel(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+void remap_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                   const double* mass, double scale, const double* vel, double* node_mom) {
   for (std::size_t p = begin; p < end; ++p) {
     const double m = scale * mass[p];
@@ -156,7 +157,7 @@ void velocity_from_momentum(std::size_t begin, std::size_t end, const double* ma
 // volume *= det(I + L dt) in the same pass (strain_volume_kernel does it
 // after a change of L).
 template <int D, bool Integrate = true>
-void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
+void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids,
                               const double* dw, const double* node_vel, double* L, double* strain, double* volume) {
   for (std::size_t p = begin; p < end; ++p) {
     double l[D][D] = {};
@@ -194,7 +195,7 @@ void strain_volume_kernel(std::size_t begin, std::size_t end, double dt, const d
 // Cell-averaged volumetric strain rate (anti-locking): the volume and the
 // volume-weighted trace of L of the points of each cell...
 template <int D>
-void cell_volumetric_rate_kernel(std::size_t begin, std::size_t end, const std::int64_t* cell, const double* L,
+void cell_volumetric_rate_kernel(std::size_t begin, std::size_t end, const NodeId* cell, const double* L,
                                  const double* volume, double* cell_volume, double* cell_rate) {
   for (std::size_t p = begin; p < end; ++p) {
     const double* Lp = L + p * D * D;
@@ -208,7 +209,7 @@ void cell_volumetric_rate_kernel(std::size_t begin, std::size_t end, const std::
 // ... then each point's trace replaced by its cell's mean, the deviatoric
 // part of L kept.
 template <int D>
-void replace_volumetric_rate_kernel(std::size_t begin, std::size_t end, const std::int64_t* cell,
+void replace_volumetric_rate_kernel(std::size_t begin, std::size_t end, const NodeId* cell,
                                     const double* cell_volume, const double* cell_rate, double* L) {
   for (std::size_t p = begin; p < end; ++p) {
     double* Lp = L + p * D * D;

@@ -86,7 +86,7 @@ inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const S
 }
 
 // Scatter: pore volume, liquid and suspended fines of the nodes.
-inline void p2g_species(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+inline void p2g_species(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                         const double* volume, const double* n, const double* liquid, const double* fines,
                         const double* carrying, double* node_pore, double* node_liquid, double* node_fines,
                         double* node_carrying) {
@@ -317,7 +317,7 @@ struct SharedSpecies {
   double* amount[3];
 };
 
-inline void g2p_share(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+inline void g2p_share(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                       const double* volume, const double* n, const SharedSpecies& species) {
   const int count = species.amount[2] ? 3 : species.amount[1] ? 2 : 1;
   for (std::size_t p = begin; p < end; ++p) {

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "solid_kernels.hpp"
+#include "suffuse/grid.hpp"
 #include "suffuse/liquid.hpp"
 
 namespace suffuse::detail {
@@ -31,7 +32,7 @@ struct SaturatedPoints {
 };
 
 template <int D>
-void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                    const double* dw, const SaturatedPoints& pt, const double* g, double scale,
                    const SaturatedNodes& out) {
   // The targets are distinct arrays: restrict lets the compiler keep each
@@ -87,7 +88,7 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const std::int64
 
 // The MUSL remap of both phases' momenta in one pass (remap_kernel's sums).
 template <int D>
-void remap_two_phase(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+void remap_two_phase(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                      const double* mass, const double* liquid_mass, double scale, const double* vel,
                      const double* liquid_vel, double* node_mom, double* node_liquid_mom) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -133,7 +134,7 @@ void grid_update_saturated(std::size_t begin, std::size_t end, double dt, double
 // porosity fell to zero or below (grains are incompressible), or `end`.
 // Starts the step's porosity increment.
 template <int D>
-std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids, const double* dw,
+std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids, const double* dw,
                    const double* node_q, const double* L, const double* bulk, const double* vs,
                    const double* vl, double* n, double* porosity_increment, double* pressure_rate, double* darcy) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -164,7 +165,7 @@ std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt
 }
 
 // Pressure smoothing, scatter half: volume-weighted nodal pressure rates.
-inline void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const std::int64_t* ids, const double* w,
+inline void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                        const double* volume, const double* n, const double* rate, double* node_rate,
                        double* node_volume) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -183,7 +184,7 @@ inline void nodal_pressure_rate(std::size_t begin, std::size_t end, const double
 }
 
 // Gather half: each point's pressure grows by the interpolated nodal rate.
-inline void g2p_pressure(std::size_t begin, std::size_t end, int npp, double dt, const std::int64_t* ids,
+inline void g2p_pressure(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids,
                          const double* w, const double* node_rate, const double* n, double* pressure) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // dry points keep p = 0

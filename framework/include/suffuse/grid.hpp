@@ -8,6 +8,11 @@
 
 namespace suffuse {
 
+// The index of a node in a point's support. 32 bits: the interpolation holds
+// one per point and node, and every stage of a step reads them, so half the
+// bytes are half the traffic; scenes are limited to 2^31 - 1 nodes (/grid).
+using NodeId = std::int32_t;
+
 class GridGeometry {
  public:
   GridGeometry(int dim, std::array<double, 3> origin, std::array<double, 3> cell_size,

@@ -21,7 +21,7 @@ class ShapeFunction {
   // and gradient. Called once per step on large batches (one per thread):
   // never once per point.
   virtual void evaluate(const GridGeometry& grid, std::span<const double> positions,
-                        std::span<const double> sizes, std::span<std::int64_t> node_ids,
+                        std::span<const double> sizes, std::span<NodeId> node_ids,
                         std::span<double> weights, std::span<double> gradients) const = 0;
 };
 

@@ -14,6 +14,7 @@
 namespace {
 
 using suffuse::GridGeometry;
+using suffuse::NodeId;
 
 // 1D uGIMP weight and derivative for node distance r, cell size h, half-size
 // lp (with 1/h and 1/(h lp) given). All three pieces are formed and one is
@@ -32,7 +33,7 @@ inline void gimp_1d(double r, double h, double lp, double inv_h, double inv_hlp,
 // Slot order: the first axis fastest (k = i + 3 j + 9 l), as the scatter
 // sums depend on it.
 template <int D>
-void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size, std::size_t n, std::int64_t* ids,
+void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size, std::size_t n, NodeId* ids,
                    double* w, double* dw) {
   constexpr int npp = D == 2 ? 9 : 27;
   const auto& o = grid.origin();
@@ -123,7 +124,7 @@ class GimpShape final : public suffuse::ShapeFunction {
   int nodes_per_point(int dim) const override { return dim == 2 ? 9 : 27; }
 
   void evaluate(const GridGeometry& grid, std::span<const double> positions, std::span<const double> sizes,
-                std::span<std::int64_t> node_ids, std::span<double> weights,
+                std::span<NodeId> node_ids, std::span<double> weights,
                 std::span<double> gradients) const override {
     const std::size_t n = positions.size() / grid.dim();
     if (grid.dim() == 2)

@@ -8,9 +8,10 @@
 namespace {
 
 using suffuse::GridGeometry;
+using suffuse::NodeId;
 
 template <int D>
-void evaluate_linear(const GridGeometry& grid, const double* x, std::size_t n, std::int64_t* ids, double* w,
+void evaluate_linear(const GridGeometry& grid, const double* x, std::size_t n, NodeId* ids, double* w,
                      double* dw) {
   constexpr int npp = 1 << D;
   const auto& o = grid.origin();
@@ -57,7 +58,7 @@ class LinearShape final : public suffuse::ShapeFunction {
   int nodes_per_point(int dim) const override { return 1 << dim; }
 
   void evaluate(const GridGeometry& grid, std::span<const double> positions, std::span<const double> /*sizes*/,
-                std::span<std::int64_t> node_ids, std::span<double> weights,
+                std::span<NodeId> node_ids, std::span<double> weights,
                 std::span<double> gradients) const override {
     const std::size_t n = positions.size() / grid.dim();
     if (grid.dim() == 2)
