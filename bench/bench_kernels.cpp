@@ -93,36 +93,40 @@ void p2g_dry(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
   Executor exec(static_cast<int>(state.range(0)));
   const double g[D] = {0, -9.81};
+  std::vector<double> block(s.nodes * dry_block<D>);
   for (auto _ : state) {
-    for (auto* v : {&s.node_mass, &s.node_vector, &s.node_force}) std::fill(v->begin(), v->end(), 0.0);
+    std::fill(block.begin(), block.end(), 0.0);
     ScatterTargets targets(s.ids.data(), s.npp, s.nodes, &s.ranges);
-    targets.add(s.node_mass);
-    targets.add(s.node_vector);
-    targets.add(s.node_force);
+    targets.add(block);
     exec.scatter(s.n, targets, [&](std::size_t b, std::size_t e, double* const* out) {
       p2g_kernel<D>(b, e, s.npp, s.ids.data(), s.w.data(), s.dw.data(), s.mass.data(), s.volume.data(),
-                    s.velocity.data(), s.stress.data(), g, 1.0, out[0], out[1], out[2]);
+                    s.velocity.data(), s.stress.data(), g, 1.0, out[0]);
+    });
+    exec.for_chunks(s.nodes, [&](int, std::size_t b, std::size_t e) {
+      unpack_dry_block<D>(b, e, block.data(), s.node_mass.data(), s.node_vector.data(), s.node_force.data());
     });
     benchmark::DoNotOptimize(s.node_force.data());
   }
   done(state, s);
 }
 
-// The saturated scatter: eight nodal arrays.
+// The saturated scatter: eight nodal arrays, from one block per node.
 void p2g_two_phase(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
   std::vector<std::vector<double>> out(8);
   for (int k = 0; k < 8; ++k) out[k].assign(s.nodes * (k == 1 || k == 2 || k == 4 || k == 5 ? D : 1), 0.0);
+  std::vector<double> block(s.nodes * saturated_block<D>);
   const std::vector<double> rho_w(s.n, 1000.0), conductivity(s.n, 1e-3);
   const SaturatedPoints pt{s.mass.data(),     s.volume.data(), s.velocity.data(), s.stress.data(),
                            s.porosity.data(), s.pressure.data(), s.velocity.data(), s.mass.data(),
                            conductivity.data(), rho_w.data()};
+  const SaturatedNodes nodes{out[0].data(), out[1].data(), out[2].data(), out[3].data(),
+                             out[4].data(), out[5].data(), out[6].data(), out[7].data()};
   const double g[D] = {0, -9.81};
   for (auto _ : state) {
-    for (auto& v : out) std::fill(v.begin(), v.end(), 0.0);
-    p2g_saturated<D>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.dw.data(), pt, g, 1.0,
-                     SaturatedNodes{out[0].data(), out[1].data(), out[2].data(), out[3].data(), out[4].data(),
-                                    out[5].data(), out[6].data(), out[7].data()});
+    std::fill(block.begin(), block.end(), 0.0);
+    p2g_saturated<D>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.dw.data(), pt, g, 1.0, block.data());
+    unpack_saturated_block<D>(0, s.nodes, block.data(), nodes);
     benchmark::DoNotOptimize(out[2].data());
   }
   done(state, s);

@@ -6,18 +6,21 @@ namespace suffuse::detail {
 
 void DryMomentum::points_to_grid() {
   NodeState& n = d_.nodes;
-  for (auto* v : {&n.mass, &n.momentum, &n.force}) std::fill(v->begin(), v->end(), 0.0);
+  const int W = d_.dim() == 2 ? dry_block<2> : dry_block<3>;
+  block_.assign(d_.grid.node_count() * static_cast<std::size_t>(W), 0.0);
   const auto& f = d_.points.core();
   auto kernel = d_.dim() == 2 ? &p2g_kernel<2> : &p2g_kernel<3>;
   const Interpolation& s = d_.shape;
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
-  targets.add(n.mass);
-  targets.add(n.momentum);
-  targets.add(n.force);
+  targets.add(block_);
   d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), d_.points.data(f.mass),
            d_.points.data(f.volume), d_.points.data(f.velocity), d_.points.data(f.stress), gravity_.data(),
-           mass_scaling_, out[0], out[1], out[2]);
+           mass_scaling_, out[0]);
+  });
+  auto unpack = d_.dim() == 2 ? &unpack_dry_block<2> : &unpack_dry_block<3>;
+  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+    unpack(b, e, block_.data(), n.mass.data(), n.momentum.data(), n.force.data());
   });
 }
 

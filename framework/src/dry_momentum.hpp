@@ -1,6 +1,7 @@
 #pragma once
 // The momentum balance of a run without pore liquid: single-phase MUSL.
 #include <array>
+#include <vector>
 
 #include "domain.hpp"
 #include "momentum_balance.hpp"
@@ -22,6 +23,7 @@ class DryMomentum final : public MomentumBalance {
   Domain& d_;
   std::array<double, 3> gravity_;
   double damping_, mass_scaling_;
+  std::vector<double> block_;  // the scatter's per-node sums (dry_block), unpacked into the node state
 };
 
 }  // namespace suffuse::detail

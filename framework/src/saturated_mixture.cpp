@@ -90,9 +90,8 @@ double SaturatedMixture::stable_time_step(const BodySpec& body, const Phase& pha
 
 void SaturatedMixture::points_to_grid() {
   NodeState& n = d_.nodes;
-  for (auto* v : {&n.mass, &n.momentum, &n.force, &n.liquid_mass, &n.liquid_momentum, &n.liquid_force,
-                  &n.liquid_inertia, &node_drag_})
-    std::fill(v->begin(), v->end(), 0.0);
+  const int W = d_.dim() == 2 ? saturated_block<2> : saturated_block<3>;
+  block_.assign(d_.grid.node_count() * static_cast<std::size_t>(W), 0.0);
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   auto kernel = d_.dim() == 2 ? &p2g_saturated<2> : &p2g_saturated<3>;
@@ -103,13 +102,16 @@ void SaturatedMixture::points_to_grid() {
                            pts.data(f_.conductivity),  pts.data(f_.water_density)};
   const Interpolation& s = d_.shape;
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
-  for (auto* v : {&n.mass, &n.momentum, &n.force, &n.liquid_mass, &n.liquid_momentum, &n.liquid_force,
-                  &n.liquid_inertia, &node_drag_})
-    targets.add(*v);
+  targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), pt, gravity_.data(), mass_scaling_,
-           SaturatedNodes{out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7]});
+           out[0]);
   });
+  const SaturatedNodes nodes{n.mass.data(),         n.momentum.data(),     n.force.data(),
+                             n.liquid_mass.data(),  n.liquid_momentum.data(), n.liquid_force.data(),
+                             n.liquid_inertia.data(), node_drag_.data()};
+  auto unpack = d_.dim() == 2 ? &unpack_saturated_block<2> : &unpack_saturated_block<3>;
+  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) { unpack(b, e, block_.data(), nodes); });
 }
 
 void SaturatedMixture::integrate_grid(double dt) {

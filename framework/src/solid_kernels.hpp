@@ -42,33 +42,53 @@ inline double undamped(double damped_force, double velocity, double damping) {
 
 // The scatters copy what they read of a point into locals first: the node
 // arrays could alias it for all the compiler knows, and it would reload it
-// after every store. The products keep their order (bit for bit the same).
+// after every store.
+//
+// Points to grid, dry: a node's sums in one block of dry_block<D> values,
+// mass, momentum (D), force (D). Every sum is linear in the node's weight N
+// and gradient: block += a N + B grad N, with a and B formed once per point,
+// so a node costs a few multiply-adds on one contiguous block instead of a
+// load and a store in each of three arrays (unpack_dry_block spreads them).
+template <int D>
+inline constexpr int dry_block = 1 + 2 * D;
+
 template <int D>
 void p2g_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w, const double* dw,
                 const double* mass, const double* volume, const double* vel, const double* stress,
-                const double* g, double scale, double* node_mass, double* node_mom, double* node_force) {
-  double gravity[D];
-  for (int i = 0; i < D; ++i) gravity[i] = g[i];
+                const double* g, double scale, double* __restrict block) {
+  constexpr int W = dry_block<D>;
   for (std::size_t p = begin; p < end; ++p) {
     const double m = mass[p], V = volume[p], inertia = scale * m;
-    double v[D], Vs[D][D];
+    double a[W], B[D][D];  // B = -V sigma: the force's coefficients of grad N
+    a[0] = inertia;
     for (int i = 0; i < D; ++i) {
-      v[i] = vel[p * D + i];
-      for (int j = 0; j < D; ++j) Vs[i][j] = V * stress[p * 6 + voigt_index(i, j)];
+      a[1 + i] = inertia * vel[p * D + i];
+      a[1 + D + i] = m * g[i];
+      for (int j = 0; j < D; ++j) B[i][j] = -V * stress[p * 6 + voigt_index(i, j)];
     }
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      const double wm = w[k] * m, wi = w[k] * inertia;
-      const double* grad = dw + k * D;
-      node_mass[I] += wi;
+    for (int k = 0; k < npp; ++k) {
+      const std::size_t q = p * npp + k;
+      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * W;
+      const double N = w[q];
+      const double* grad = dw + q * D;
+      for (int c = 0; c <= D; ++c) o[c] += a[c] * N;
       for (int i = 0; i < D; ++i) {
-        node_mom[I * D + i] += wi * v[i];
-        double f = wm * gravity[i];
-        for (int j = 0; j < D; ++j) f -= Vs[i][j] * grad[j];
-        node_force[I * D + i] += f;
+        double f = a[1 + D + i] * N;
+        for (int j = 0; j < D; ++j) f += B[i][j] * grad[j];
+        o[1 + D + i] += f;
       }
     }
+  }
+}
+
+template <int D>
+void unpack_dry_block(std::size_t begin, std::size_t end, const double* block, double* node_mass, double* node_mom,
+                      double* node_force) {
+  constexpr int W = dry_block<D>;
+  for (std::size_t I = begin; I < end; ++I) {
+    const double* b = block + I * W;
+    node_mass[I] = b[0];
+    for (int i = 0; i < D; ++i) node_mom[I * D + i] = b[1 + i], node_force[I * D + i] = b[1 + D + i];
   }
 }
 

@@ -14,7 +14,7 @@
 
 namespace suffuse::detail {
 
-// Nodal targets of the saturated points-to-grid scatter.
+// Nodal sums of the saturated points-to-grid scatter.
 struct SaturatedNodes {
   double* solid_mass;       // sum N (1-n) rho_s V
   double* solid_momentum;   // D per node
@@ -31,20 +31,18 @@ struct SaturatedPoints {
       *conductivity, *water_density;
 };
 
+// Points to grid, saturated: a node's sums in one block of
+// saturated_block<D> values, in the order of SaturatedNodes. As in the dry
+// scatter (p2g_kernel), each is linear in the node's N and grad N:
+// block += a N + B grad N, where only the forces have a B.
+template <int D>
+inline constexpr int saturated_block = 4 + 4 * D;
+
 template <int D>
 void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                    const double* dw, const SaturatedPoints& pt, const double* g, double scale,
-                   const SaturatedNodes& out) {
-  // The targets are distinct arrays: restrict lets the compiler keep each
-  // node's sums in registers instead of reloading after every store.
-  double* __restrict solid_mass = out.solid_mass;
-  double* __restrict solid_momentum = out.solid_momentum;
-  double* __restrict force = out.force;
-  double* __restrict liquid_mass = out.liquid_mass;
-  double* __restrict liquid_momentum = out.liquid_momentum;
-  double* __restrict liquid_force = out.liquid_force;
-  double* __restrict liquid_inertia = out.liquid_inertia;
-  double* __restrict node_drag = out.drag;
+                   double* __restrict block) {
+  constexpr int W = saturated_block<D>, inertial = 4 + 2 * D;  // the sums without a gradient term
   for (std::size_t p = begin; p < end; ++p) {
     const double ms = pt.mass[p], V = pt.volume[p], n = pt.porosity[p], pr = pt.pressure[p];
     // n rho_L V; its intrinsic density times the volume is m_L / n.
@@ -53,35 +51,46 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* id
     // Drag n gamma_w V / K: K is measured with clean water, whatever the
     // liquid carries. A dry point (n = 0) adds no liquid mass, drag or force.
     const double drag = n > 0 ? n * pt.water_density[p] * reference_gravity * V / pt.conductivity[p] : 0.0;
-    // Per point, in the order of the per-node sums below (bit for bit the
-    // same as forming them at each node): total stress = sigma' - p I.
-    double vs[D], vl[D], Vs[D][D];
+    const double Vp = V * pr, Vp_liquid = n > 0 ? Vp : 0.0, mixture = ms + ml;
+    // Inertia (masses, momenta) carries the mass scaling; forces do not.
+    double a[W], B[2 * D][D];  // B: the mixture's force, V (p I - sigma'), then the liquid's, V p I
+    a[0] = scale * ms, a[1] = scale * ml, a[2] = scale * rho_l_V, a[3] = drag;
     for (int i = 0; i < D; ++i) {
-      vs[i] = pt.velocity[p * D + i];
-      vl[i] = pt.liquid_velocity[p * D + i];
-      for (int j = 0; j < D; ++j) Vs[i][j] = V * pt.stress[p * 6 + voigt_index(i, j)];
-    }
-    const double Vp = V * pr, mixture = ms + ml;
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      const double N = w[k];
-      const double* grad = dw + k * D;
-      // Inertia (masses, momenta) carries the mass scaling; forces do not.
-      const double sN = scale * N, sNms = sN * ms, sNml = sN * ml;
-      solid_mass[I] += sNms;
-      liquid_mass[I] += sNml;
-      if (n > 0) liquid_inertia[I] += sN * rho_l_V;
-      node_drag[I] += N * drag;
-      for (int i = 0; i < D; ++i) {
-        solid_momentum[I * D + i] += sNms * vs[i];
-        liquid_momentum[I * D + i] += sNml * vl[i];
-        const double pressure = Vp * grad[i];
-        double f = N * mixture * g[i] + pressure;
-        for (int j = 0; j < D; ++j) f -= Vs[i][j] * grad[j];
-        force[I * D + i] += f;
-        if (n > 0) liquid_force[I * D + i] += N * rho_l_V * g[i] + pressure;
+      a[4 + i] = scale * ms * pt.velocity[p * D + i];
+      a[4 + D + i] = scale * ml * pt.liquid_velocity[p * D + i];
+      a[inertial + i] = mixture * g[i];
+      a[inertial + D + i] = rho_l_V * g[i];
+      for (int j = 0; j < D; ++j) {
+        B[i][j] = (i == j ? Vp : 0.0) - V * pt.stress[p * 6 + voigt_index(i, j)];
+        B[D + i][j] = i == j ? Vp_liquid : 0.0;
       }
+    }
+    for (int k = 0; k < npp; ++k) {
+      const std::size_t q = p * npp + k;
+      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * W;
+      const double N = w[q];
+      const double* grad = dw + q * D;
+      for (int c = 0; c < inertial; ++c) o[c] += a[c] * N;
+      for (int i = 0; i < 2 * D; ++i) {
+        double f = a[inertial + i] * N;
+        for (int j = 0; j < D; ++j) f += B[i][j] * grad[j];
+        o[inertial + i] += f;
+      }
+    }
+  }
+}
+
+template <int D>
+void unpack_saturated_block(std::size_t begin, std::size_t end, const double* block, const SaturatedNodes& out) {
+  constexpr int W = saturated_block<D>;
+  for (std::size_t I = begin; I < end; ++I) {
+    const double* b = block + I * W;
+    out.solid_mass[I] = b[0], out.liquid_mass[I] = b[1], out.liquid_inertia[I] = b[2], out.drag[I] = b[3];
+    for (int i = 0; i < D; ++i) {
+      out.solid_momentum[I * D + i] = b[4 + i];
+      out.liquid_momentum[I * D + i] = b[4 + D + i];
+      out.force[I * D + i] = b[4 + 2 * D + i];
+      out.liquid_force[I * D + i] = b[4 + 3 * D + i];
     }
   }
 }
