@@ -60,13 +60,34 @@ class LinearElastic final : public suffuse::Phase {
       // Full 3x3 increments; out-of-plane components stay zero in 2D (plane strain).
       const auto [d, w] = increments(p);
       double* s6 = stress + p * 6;
-      suffuse::tensor::Matrix ns =
-          suffuse::tensor::jaumann_elastic_increment(suffuse::tensor::to_matrix(s6), d, w, G_, lambda_);
+      suffuse::tensor::Matrix ns;
+      if constexpr (D == 2)
+        ns = plane_jaumann_elastic_increment(s6, d, w[0][1]);
+      else
+        ns = suffuse::tensor::jaumann_elastic_increment(suffuse::tensor::to_matrix(s6), d, w, G_, lambda_);
       if (tension_cutoff_ && has_tension(ns))
         for (auto& row : ns)
           for (double& v : row) v = 0;
       suffuse::tensor::store(ns, s6);
     }
+  }
+
+  // jaumann_elastic_increment in 2D, where the spin has the one component
+  // w01 = -w10 = omega: the rotation w s - s w, written out, is 2 omega s01 on
+  // xx, -2 omega s01 on yy, omega (s11 - s00) on xy, omega s12 on xz and
+  // -omega s02 on yz (the strain increment may have out-of-plane parts, from
+  // an eigenstrain). A quarter of the general form's arithmetic.
+  suffuse::tensor::Matrix plane_jaumann_elastic_increment(const double* s6, const suffuse::tensor::Matrix& d,
+                                                          double omega) const {
+    const double xx = s6[0], yy = s6[1], zz = s6[2], yz = s6[3], xz = s6[4], xy = s6[5];
+    const double volumetric = lambda_ * (d[0][0] + d[1][1] + d[2][2]), G2 = 2 * G_, shear_rotation = 2 * omega * xy;
+    const double nxx = xx + G2 * d[0][0] + volumetric + shear_rotation;
+    const double nyy = yy + G2 * d[1][1] + volumetric - shear_rotation;
+    const double nzz = zz + G2 * d[2][2] + volumetric;
+    const double nxy = xy + G2 * d[0][1] + omega * (yy - xx);
+    const double nxz = xz + G2 * d[0][2] + omega * yz;
+    const double nyz = yz + G2 * d[1][2] - omega * xz;
+    return {{{nxx, nxy, nxz}, {nxy, nyy, nyz}, {nxz, nyz, nzz}}};
   }
 
   // True when the largest principal stress is positive, that is when s is
