@@ -167,12 +167,11 @@ void velocity_gradient(benchmark::State& state, const char* shape_name) {
 // Gathers of the transport: each point's share of the nodal changes.
 void transport_share(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
-  std::vector<double> per_amount(s.nodes), per_pore(s.nodes), amount(s.n, 1.0);
-  share_rates(s.nodes, s.node_scalar.data(), s.node_scalar.data(), s.node_vector.data(), per_amount.data(),
-              per_pore.data());
+  std::vector<double> block(s.nodes * share_block, 0.0), amount(s.n, 1.0);
+  share_rates(s.nodes, 0, s.node_scalar.data(), s.node_scalar.data(), s.node_vector.data(), block.data());
+  double* const amounts[3] = {amount.data(), nullptr, nullptr};
   for (auto _ : state) {
-    g2p_share(0, s.n, s.npp, s.ids.data(), s.w.data(), s.volume.data(), s.porosity.data(),
-              SharedSpecies{{per_amount.data()}, {per_pore.data()}, {amount.data()}});
+    g2p_share(0, s.n, s.npp, s.ids.data(), s.w.data(), s.volume.data(), s.porosity.data(), block.data(), amounts);
     benchmark::DoNotOptimize(amount.data());
   }
   done(state, s);

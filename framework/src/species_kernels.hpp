@@ -85,22 +85,33 @@ inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const S
   }
 }
 
-// Scatter: pore volume, liquid and suspended fines of the nodes.
+// Scatter: pore volume, liquid, suspended fines and the liquid carrying
+// them, summed per node into one block of species_block values in that
+// order (the fines' two are zero where the run tracks none). Each is N times
+// the point's amount.
+inline constexpr int species_block = 4;
+
 inline void p2g_species(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                         const double* volume, const double* n, const double* liquid, const double* fines,
-                        const double* carrying, double* node_pore, double* node_liquid, double* node_fines,
-                        double* node_carrying) {
+                        const double* carrying, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // a dry point holds no liquid
-    const double pore = n[p] * volume[p];
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      node_pore[I] += w[k] * pore;
-      node_liquid[I] += w[k] * liquid[p];
-      if (fines) node_fines[I] += w[k] * fines[p];
-      if (carrying) node_carrying[I] += w[k] * carrying[p];
+    const double a[species_block] = {n[p] * volume[p], liquid[p], fines ? fines[p] : 0.0,
+                                     carrying ? carrying[p] : 0.0};
+    for (int k = 0; k < npp; ++k) {
+      const std::size_t q = p * npp + k;
+      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * species_block;
+      for (int c = 0; c < species_block; ++c) o[c] += w[q] * a[c];
     }
+  }
+}
+
+inline void unpack_species_block(std::size_t begin, std::size_t end, const double* block, double* node_pore,
+                                 double* node_liquid, double* node_fines, double* node_carrying) {
+  for (std::size_t I = begin; I < end; ++I) {
+    const double* b = block + I * species_block;
+    node_pore[I] = b[0], node_liquid[I] = b[1];
+    if (node_fines) node_fines[I] = b[2], node_carrying[I] = b[3];
   }
 }
 
@@ -300,39 +311,36 @@ struct Transport {
 // in proportion to what the points hold, gains in proportion to their pore
 // volume, so the shares of a node add up to its change exactly.
 // First, per node, the change per amount held (losses) and per pore volume
-// (gains): one division per node rather than one per point and node.
-inline void share_rates(std::size_t nodes, const double* node_pore, const double* node_amount,
-                        const double* node_change, double* per_amount, double* per_pore) {
+// (gains): one division per node rather than one per point and node. They go
+// into one block per node, share_block values: species s's rate per amount
+// at s, per pore volume at 3 + s (liquid, fines, carrying liquid).
+inline constexpr int share_block = 6;
+
+inline void share_rates(std::size_t nodes, int species, const double* node_pore, const double* node_amount,
+                        const double* node_change, double* block) {
   for (std::size_t I = 0; I < nodes; ++I) {
     const double d = node_change[I];
-    per_amount[I] = d < 0 && node_amount[I] > 0 ? d / node_amount[I] : 0.0;
-    per_pore[I] = d > 0 ? d / node_pore[I] : 0.0;
+    block[I * share_block + species] = d < 0 && node_amount[I] > 0 ? d / node_amount[I] : 0.0;
+    block[I * share_block + 3 + species] = d > 0 ? d / node_pore[I] : 0.0;
   }
 }
 
 // Up to three species in one pass over the points' nodes (null: absent).
-struct SharedSpecies {
-  const double* per_amount[3];
-  const double* per_pore[3];
-  double* amount[3];
-};
-
 inline void g2p_share(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
-                      const double* volume, const double* n, const SharedSpecies& species) {
-  const int count = species.amount[2] ? 3 : species.amount[1] ? 2 : 1;
+                      const double* volume, const double* n, const double* block, double* const (&amount)[3]) {
+  const int count = amount[2] ? 3 : amount[1] ? 2 : 1;
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;
     const double pore = n[p] * volume[p];
     double held[3] = {}, change[3] = {};
-    for (int s = 0; s < count; ++s) held[s] = species.amount[s][p];
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
+    for (int s = 0; s < count; ++s) held[s] = amount[s][p];
+    for (int k = 0; k < npp; ++k) {
+      const std::size_t q = p * npp + k;
+      const double* b = block + static_cast<std::size_t>(ids[q]) * share_block;
       // One of the two rates is zero: the sum is the other term exactly.
-      for (int s = 0; s < count; ++s)
-        change[s] += w[k] * held[s] * species.per_amount[s][I] + w[k] * pore * species.per_pore[s][I];
+      for (int s = 0; s < 3; ++s) change[s] += w[q] * (held[s] * b[s] + pore * b[3 + s]);
     }
-    for (int s = 0; s < count; ++s) species.amount[s][p] += change[s];
+    for (int s = 0; s < count; ++s) amount[s][p] += change[s];
   }
 }
 

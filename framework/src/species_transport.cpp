@@ -66,10 +66,9 @@ SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry,
   node_face_.assign(nn * scene.dim, 0.0);
   for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_, &node_out_, &node_dliquid_,
                   &node_dfines_, &node_dcarrying_, &node_free_liquid_, &node_free_fines_, &node_free_carrying_,
-                  &stage_dliquid_, &stage_dfines_, &stage_dcarrying_, &stage_liquid_, &stage_fines_, &stage_carrying_,
-                  &share_liquid_, &share_fines_, &share_carrying_, &share_pore_liquid_, &share_pore_fines_,
-                  &share_pore_carrying_})
+                  &stage_dliquid_, &stage_dfines_, &stage_dcarrying_, &stage_liquid_, &stage_fines_, &stage_carrying_})
     v->assign(nn, 0.0);
+  share_block_.assign(nn * share_block, 0.0);  // the fines' rates stay zero where the run tracks none
   setup_openings(scene, mixture, bcs);
 }
 
@@ -289,16 +288,17 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   const double* V = pts.data(pts.core().volume);
   const double* n = pts.data(m_.porosity);
   const Interpolation& s = d_.shape;
-  for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_}) std::fill(v->begin(), v->end(), 0.0);
+  species_block_.assign(d_.grid.node_count() * species_block, 0.0);
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
-  targets.add(node_pore_);
-  targets.add(node_liquid_);
-  if (fines_) targets.add(node_fines_), targets.add(node_carrying_);
+  targets.add(species_block_);
   const double* fines = fines_ ? pts.data(fines_->suspended_fines) : nullptr;
   const double* carrying = fines_ ? pts.data(fines_->carrying_liquid) : nullptr;
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    p2g_species(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, pts.data(m_.liquid_mass), fines, carrying, out[0],
-                out[1], fines ? out[2] : nullptr, fines ? out[3] : nullptr);
+    p2g_species(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, pts.data(m_.liquid_mass), fines, carrying, out[0]);
+  });
+  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+    unpack_species_block(b, e, species_block_.data(), node_pore_.data(), node_liquid_.data(),
+                         fines ? node_fines_.data() : nullptr, fines ? node_carrying_.data() : nullptr);
   });
 
   if (scheme == TransportScheme::backward_euler) {
@@ -334,23 +334,15 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   double* moving = pts.data(m_.moving_liquid_mass);
   double* c = fines_ ? pts.data(fines_->concentration) : nullptr;
   const std::size_t nn = d_.grid.node_count();
-  share_rates(nn, node_pore_.data(), node_liquid_.data(), node_dliquid_.data(), share_liquid_.data(),
-              share_pore_liquid_.data());
+  share_rates(nn, 0, node_pore_.data(), node_liquid_.data(), node_dliquid_.data(), share_block_.data());
   if (fines) {
-    share_rates(nn, node_pore_.data(), node_fines_.data(), node_dfines_.data(), share_fines_.data(),
-                share_pore_fines_.data());
-    share_rates(nn, node_pore_.data(), node_carrying_.data(), node_dcarrying_.data(), share_carrying_.data(),
-                share_pore_carrying_.data());
+    share_rates(nn, 1, node_pore_.data(), node_fines_.data(), node_dfines_.data(), share_block_.data());
+    share_rates(nn, 2, node_pore_.data(), node_carrying_.data(), node_dcarrying_.data(), share_block_.data());
   }
-  SharedSpecies shared{{share_liquid_.data()}, {share_pore_liquid_.data()}, {pts.data(m_.liquid_mass)}};
-  if (fines) {
-    shared.per_amount[1] = share_fines_.data(), shared.per_pore[1] = share_pore_fines_.data();
-    shared.amount[1] = pts.data(fines_->suspended_fines);
-    shared.per_amount[2] = share_carrying_.data(), shared.per_pore[2] = share_pore_carrying_.data();
-    shared.amount[2] = pts.data(fines_->carrying_liquid);
-  }
+  double* const amounts[3] = {pts.data(m_.liquid_mass), fines ? pts.data(fines_->suspended_fines) : nullptr,
+                              fines ? pts.data(fines_->carrying_liquid) : nullptr};
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, shared);
+    g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_block_.data(), amounts);
     // The momentum balance sees the pores full of the liquid the point
     // carries: n V rho_L, rho_L = c rho_s + (1 - c) rho_w. Not the carried
     // mass itself, which near a free surface inside the grid can pile up

@@ -125,9 +125,9 @@ class SpeciesTransport {
   // Heun's first stage: its changes, and the nodal amounts after it.
   std::vector<double> stage_dliquid_, stage_dfines_, stage_dcarrying_, stage_liquid_, stage_fines_, stage_carrying_;
   std::vector<std::array<double, 4>> stage_discharge_;
-  // Per node, the change shared per amount held and per pore volume (g2p_share).
-  std::vector<double> share_liquid_, share_fines_, share_carrying_, share_pore_liquid_, share_pore_fines_,
-      share_pore_carrying_;
+  // Per node, the scatter's sums (species_block) and the change shared per
+  // amount held and per pore volume (share_block, g2p_share).
+  std::vector<double> species_block_, share_block_;
 };
 
 }  // namespace suffuse::detail
