@@ -45,7 +45,7 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
                                            : nullptr);
   f_ = register_fields(d_.points, fields_declared());
   const std::size_t nn = d_.grid.node_count();
-  for (auto* v : {&node_drag_, &node_pressure_rate_, &node_volume_}) v->assign(nn, 0.0);
+  for (auto* v : {&node_drag_, &node_pressure_rate_}) v->assign(nn, 0.0);
   node_darcy_.assign(nn * dim, 0.0);
 }
 
@@ -148,21 +148,22 @@ void SaturatedMixture::grid_to_points(double dt) {
 
 void SaturatedMixture::remap() {
   NodeState& n = d_.nodes;
-  std::fill(n.momentum.begin(), n.momentum.end(), 0.0);
-  std::fill(n.liquid_momentum.begin(), n.liquid_momentum.end(), 0.0);
+  const std::size_t dim = d_.dim();
+  block_.assign(d_.grid.node_count() * 2 * dim, 0.0);
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
-  auto kernel = d_.dim() == 2 ? &remap_two_phase<2> : &remap_two_phase<3>;
+  auto kernel = dim == 2 ? &remap_two_phase<2> : &remap_two_phase<3>;
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
-  targets.add(n.momentum);
-  targets.add(n.liquid_momentum);
+  targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     kernel(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.mass), pts.data(f_.moving_liquid_mass),
-           mass_scaling_, pts.data(c.velocity), pts.data(f_.liquid_velocity), out[0], out[1]);
+           mass_scaling_, pts.data(c.velocity), pts.data(f_.liquid_velocity), out[0]);
   });
-  auto velocity = d_.dim() == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;
+  auto unpack = dim == 2 ? &unpack_remap_block<2> : &unpack_remap_block<3>;
+  auto velocity = dim == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+    unpack(b, e, block_.data(), n.momentum.data(), n.liquid_momentum.data());
     velocity(b, e, n.mass.data(), n.momentum.data(), n.velocity.data());
     velocity(b, e, n.liquid_mass.data(), n.liquid_momentum.data(), n.liquid_velocity.data());
   });
@@ -198,17 +199,15 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
   // Pressure smoothing: the pore-pressure rate is averaged over the nodes and
   // interpolated back. Raw point rates carry the checkerboard modes of a
   // nearly incompressible mixture on linear cells (as in Anura3D).
-  std::fill(node_pressure_rate_.begin(), node_pressure_rate_.end(), 0.0);
-  std::fill(node_volume_.begin(), node_volume_.end(), 0.0);
+  block_.assign(d_.grid.node_count() * 2, 0.0);
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
-  targets.add(node_pressure_rate_);
-  targets.add(node_volume_);
+  targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     p2g_pressure_rate(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.volume), pts.data(f_.porosity),
-                      pts.data(f_.pressure_rate), out[0], out[1]);
+                      pts.data(f_.pressure_rate), out[0]);
   });
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
-    nodal_pressure_rate(b, e, node_volume_.data(), node_pressure_rate_.data());
+    nodal_pressure_rate(b, e, block_.data(), node_pressure_rate_.data());
   });
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
     g2p_pressure(b, e, s.npp, dt, s.ids.data(), s.weights.data(), node_pressure_rate_.data(), pts.data(f_.porosity),

@@ -67,8 +67,8 @@ class SaturatedMixture final : public MomentumBalance {
   std::vector<std::unique_ptr<Liquid>> liquids_;
   std::vector<std::unique_ptr<PermeabilityLaw>> permeability_;  // per material, may be null
   MixtureFields f_{};
-  std::vector<double> node_drag_, node_pressure_rate_, node_volume_, node_darcy_;
-  std::vector<double> block_;  // the scatter's per-node sums (saturated_block), unpacked into the node state
+  std::vector<double> node_drag_, node_pressure_rate_, node_darcy_;
+  std::vector<double> block_;  // a scatter's per-node sums (saturated_block, the remap's, the pressure rate's)
 };
 
 }  // namespace suffuse::detail

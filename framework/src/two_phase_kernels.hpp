@@ -95,25 +95,28 @@ void unpack_saturated_block(std::size_t begin, std::size_t end, const double* bl
   }
 }
 
-// The MUSL remap of both phases' momenta in one pass (remap_kernel's sums).
+// The MUSL remap of both phases' momenta in one pass, into one block of 2D
+// values per node: the solid's momentum, then the liquid's.
 template <int D>
 void remap_two_phase(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                      const double* mass, const double* liquid_mass, double scale, const double* vel,
-                     const double* liquid_vel, double* node_mom, double* node_liquid_mom) {
+                     const double* liquid_vel, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
-    const double m = scale * mass[p], ml = scale * liquid_mass[p];
-    double v[D], vl[D];
-    for (int i = 0; i < D; ++i) v[i] = vel[p * D + i], vl[i] = liquid_vel[p * D + i];
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      const double wm = w[k] * m, wml = w[k] * ml;
-      for (int i = 0; i < D; ++i) {
-        node_mom[I * D + i] += wm * v[i];
-        node_liquid_mom[I * D + i] += wml * vl[i];
-      }
+    double a[2 * D];
+    for (int i = 0; i < D; ++i)
+      a[i] = scale * mass[p] * vel[p * D + i], a[D + i] = scale * liquid_mass[p] * liquid_vel[p * D + i];
+    for (int k = 0; k < npp; ++k) {
+      const std::size_t q = p * npp + k;
+      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * 2 * D;
+      for (int c = 0; c < 2 * D; ++c) o[c] += w[q] * a[c];
     }
   }
+}
+
+template <int D>
+void unpack_remap_block(std::size_t begin, std::size_t end, const double* block, double* mom, double* liquid_mom) {
+  for (std::size_t I = begin; I < end; ++I)
+    for (int i = 0; i < D; ++i) mom[I * D + i] = block[I * 2 * D + i], liquid_mom[I * D + i] = block[I * 2 * D + D + i];
 }
 
 // Liquid acceleration from its own forces and the drag, then the solid's from
@@ -173,23 +176,26 @@ std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt
   return end;
 }
 
-// Pressure smoothing, scatter half: volume-weighted nodal pressure rates.
+// Pressure smoothing, scatter half: volume-weighted nodal pressure rates,
+// into one block of two values per node (sum N V rate, sum N V).
 inline void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
-                       const double* volume, const double* n, const double* rate, double* node_rate,
-                       double* node_volume) {
+                              const double* volume, const double* n, const double* rate, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // dry points neither give nor take pore pressure
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      node_rate[ids[k]] += w[k] * volume[p] * rate[p];
-      node_volume[ids[k]] += w[k] * volume[p];
+    const double a[2] = {volume[p] * rate[p], volume[p]};
+    for (int k = 0; k < npp; ++k) {
+      const std::size_t q = p * npp + k;
+      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * 2;
+      o[0] += w[q] * a[0];
+      o[1] += w[q] * a[1];
     }
   }
 }
 
 // The nodal rate: the volume-weighted mean (zero at nodes without volume).
-inline void nodal_pressure_rate(std::size_t begin, std::size_t end, const double* node_volume, double* node_rate) {
-  for (std::size_t I = begin; I < end; ++I) node_rate[I] = node_volume[I] > 0 ? node_rate[I] / node_volume[I] : 0.0;
+inline void nodal_pressure_rate(std::size_t begin, std::size_t end, const double* block, double* node_rate) {
+  for (std::size_t I = begin; I < end; ++I)
+    node_rate[I] = block[2 * I + 1] > 0 ? block[2 * I] / block[2 * I + 1] : 0.0;
 }
 
 // Gather half: each point's pressure grows by the interpolated nodal rate.
