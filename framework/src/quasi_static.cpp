@@ -504,7 +504,7 @@ void QuasiStatic::update_points(double dt) {
     double du[3] = {0, 0, 0};
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t q = p * s.npp + a;
-      for (int i = 0; i < dim; ++i) du[i] += s.weights[q] * du_[s.ids[q] * dim + i];
+      for (int i = 0; i < dim; ++i) du[i] += s.weights[q] * du_[static_cast<std::size_t>(s.ids[q]) * dim + i];
     }
     for (int i = 0; i < dim; ++i) {
       x[p * dim + i] += du[i];

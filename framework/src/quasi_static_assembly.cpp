@@ -115,7 +115,8 @@ void QuasiStatic::assemble(double dt) {
     const double creep = scene_.quasi_static.creep * V[p] * modulus_[static_cast<std::size_t>(material[p])];
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k = p * s.npp + a;
-      for (int i = 0; i < dim; ++i) creep_[s.ids[k] * dim + i] += creep * s.gradients[k * dim + i] * s.gradients[k * dim + i];
+      double* creep_I = creep_.data() + static_cast<std::size_t>(s.ids[k]) * dim;
+      for (int i = 0; i < dim; ++i) creep_I[i] += creep * s.gradients[k * dim + i] * s.gradients[k * dim + i];
     }
   }
   // The blocks: row and column i < dim the displacement components, dim the pressure.

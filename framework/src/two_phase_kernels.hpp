@@ -155,7 +155,8 @@ std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt
     double div_q = 0;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
-      for (int i = 0; i < D; ++i) div_q += node_q[ids[k] * D + i] * dw[k * D + i];
+      const double* qI = node_q + static_cast<std::size_t>(ids[k]) * D;
+      for (int i = 0; i < D; ++i) div_q += qI[i] * dw[k * D + i];
     }
     const double* l = L + p * D * D;
     double div_s = 0;
