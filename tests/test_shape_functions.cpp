@@ -124,9 +124,12 @@ TEST(ShapeFunctions, GimpKeepsPartitionOfUnityAtTheGridBoundary) {
   suffuse::Parameters none;
   auto gimp = registry.create<suffuse::ShapeFunction>("shape/gimp", {none, 2, "/shape_function"});
   const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
-  // Points in the first and last half cells, boxes of half a cell.
-  const std::vector<double> x = {0.1, 2.0, 3.9, 0.05, 0.25, 3.75, 2.5, 0.2};
-  const std::vector<double> sizes(x.size(), 0.5);
+  // Points in the first and last half cells, boxes of half a cell; the last
+  // two, boxes of a cell, have left the grid by more than half a cell, as a
+  // point may have in the output frame written after the step that moved it.
+  const std::vector<double> x = {0.1, 2.0, 3.9, 0.05, 0.25, 3.75, 2.5, 0.2, -0.7, 2.0, 1.5, -0.6};
+  std::vector<double> sizes(x.size(), 0.5);
+  for (std::size_t k = 8; k < sizes.size(); ++k) sizes[k] = 1.0;
   const std::size_t n = x.size() / 2;
   std::vector<suffuse::NodeId> ids(9 * n);
   std::vector<double> w(9 * n), dw(18 * n);

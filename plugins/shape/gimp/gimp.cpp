@@ -49,10 +49,11 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
     for (int a = 0; a < D; ++a) {
       const double lp = std::min(0.5 * size[p * D + a], 0.5 * h[a]), inv_hlp = 1 / (h[a] * lp);
       const double xi = (x[p * D + a] - o[a]) * inv_h[a];
-      // The nearest node and its two neighbours: floor(xi + 1/2), which a
-      // truncation gives without a library call, as the point is in the
-      // grid (xi >= 0 up to round-off).
-      const int base = static_cast<int>(xi + 0.5) - 1;
+      // The nearest node and its two neighbours: floor(xi + 1/2), from a
+      // truncation without floor's library call (the correction is for a
+      // point off the grid, which an output frame may still project).
+      const double c = xi + 0.5;
+      const int t = static_cast<int>(c), base = t - (c < t ? 1 : 0) - 1;
       for (int k = 0; k < 3; ++k) {
         const int i = base + k;
         gimp_1d(x[p * D + a] - (o[a] + i * h[a]), h[a], lp, inv_h[a], inv_hlp, s1[a][k], d1[a][k]);
