@@ -88,19 +88,29 @@ void shape_functions(benchmark::State& state, const char* shape_name) {
   done(state, s);
 }
 
+// The kernels written on Lanes<L> run on this machine's instruction set
+// (SUFFUSE_KERNELS=portable compares the baseline).
+template <class Kernel>
+void vector_kernel(const Kernel& kernel) {
+  static const KernelIsa isa = kernel_isa_for_this_machine();
+  run_vector_kernel(isa, D, kernel);
+}
+
 // The dry points-to-grid scatter through the executor (chunked sums).
 void p2g_dry(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
-  Executor exec(static_cast<int>(state.range(0)));
+  Executor exec(static_cast<int>(state.range(0)), Executor::default_layers, kernel_isa_for_this_machine());
   const double g[D] = {0, -9.81};
-  std::vector<double> block(s.nodes * dry_block<D>);
+  std::vector<double> block(s.nodes * dry_block);
   for (auto _ : state) {
     std::fill(block.begin(), block.end(), 0.0);
     ScatterTargets targets(s.ids.data(), s.npp, s.nodes, &s.ranges);
     targets.add(block);
     exec.scatter(s.n, targets, [&](std::size_t b, std::size_t e, double* const* out) {
-      p2g_kernel<D>(b, e, s.npp, s.ids.data(), s.w.data(), s.dw.data(), s.mass.data(), s.volume.data(),
-                    s.velocity.data(), s.stress.data(), g, 1.0, out[0]);
+      exec.vector_kernel(D, [&]<int Dim, int L>() {
+        p2g_kernel<Dim, L>(b, e, s.npp, s.ids.data(), s.w.data(), s.dw.data(), s.mass.data(), s.volume.data(),
+                           s.velocity.data(), s.stress.data(), g, 1.0, out[0]);
+      });
     });
     exec.for_chunks(s.nodes, [&](int, std::size_t b, std::size_t e) {
       unpack_dry_block<D>(b, e, block.data(), s.node_mass.data(), s.node_vector.data(), s.node_force.data());
@@ -125,7 +135,9 @@ void p2g_two_phase(benchmark::State& state, const char* shape_name) {
   const double g[D] = {0, -9.81};
   for (auto _ : state) {
     std::fill(block.begin(), block.end(), 0.0);
-    p2g_saturated<D>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.dw.data(), pt, g, 1.0, block.data());
+    vector_kernel([&]<int Dim, int L>() {
+      p2g_saturated<Dim, L>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.dw.data(), pt, g, 1.0, block.data());
+    });
     unpack_saturated_block<D>(0, s.nodes, block.data(), nodes);
     benchmark::DoNotOptimize(out[2].data());
   }
@@ -147,8 +159,10 @@ void remap(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
   for (auto _ : state) {
     std::fill(s.node_vector.begin(), s.node_vector.end(), 0.0);
-    remap_kernel<D>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.mass.data(), 1.0, s.velocity.data(),
-                    s.node_vector.data());
+    vector_kernel([&]<int Dim, int L>() {
+      remap_kernel<Dim, L>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.mass.data(), 1.0, s.velocity.data(),
+                           s.node_vector.data());
+    });
     benchmark::DoNotOptimize(s.node_vector.data());
   }
   done(state, s);
@@ -171,7 +185,10 @@ void transport_share(benchmark::State& state, const char* shape_name) {
   share_rates(s.nodes, 0, s.node_scalar.data(), s.node_scalar.data(), s.node_vector.data(), block.data());
   double* const amounts[3] = {amount.data(), nullptr, nullptr};
   for (auto _ : state) {
-    g2p_share(0, s.n, s.npp, s.ids.data(), s.w.data(), s.volume.data(), s.porosity.data(), block.data(), amounts);
+    vector_kernel([&]<int, int L>() {
+      g2p_share<L>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.volume.data(), s.porosity.data(), block.data(),
+                   amounts);
+    });
     benchmark::DoNotOptimize(amount.data());
   }
   done(state, s);

@@ -1,9 +1,13 @@
-// Results do not depend on the thread count: the scatter sums in chunks of
-// points fixed by the points alone (executor.hpp), every other loop is per
-// point or per node. Whole runs on 1, 2 and 3 threads, compared bit for bit
-// in every point field and the mass ledger, on scenes of several scatter
-// chunks (the kernel-level check is in test_kernels.cpp).
+// Results depend neither on the thread count nor on the instruction set:
+// the scatter sums in chunks of points fixed by the points alone
+// (executor.hpp), every other loop is per point or per node, and the vector
+// kernels round each lane as the scalar code would (kernel_isa.hpp). Whole
+// runs on 1, 2 and 3 threads and on the portable and AVX2 kernels, compared
+// bit for bit in every point field and the mass ledger, on scenes of several
+// scatter chunks (the kernel-level check is in test_kernels.cpp).
 #include <gtest/gtest.h>
+
+#include <cstdlib>
 
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/simulation.hpp>
@@ -17,14 +21,35 @@ using suffuse::test::read_json;
 using suffuse::test::scene_from;
 using suffuse::test::source_dir;
 
+// Sets SUFFUSE_KERNELS for the simulations built in its lifetime.
+class KernelChoice {
+ public:
+  explicit KernelChoice(const char* isa) { setenv("SUFFUSE_KERNELS", isa, 1); }
+  ~KernelChoice() { unsetenv("SUFFUSE_KERNELS"); }
+};
+
+bool machine_has_avx2() {
+  const KernelChoice automatic("auto");
+  return suffuse::detail::kernel_isa_for_this_machine() == suffuse::detail::KernelIsa::avx2;
+}
+
 void expect_the_same_for_any_thread_count(const nlohmann::json& j, int steps) {
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
+  const KernelChoice portable("portable");
   suffuse::Simulation serial(scene, registry, 1);
   for (int k = 0; k < steps; ++k) serial.step();
   const auto& a = serial.points();
   ASSERT_GT(a.size(), 3 * suffuse::detail::Executor::min_scatter_chunk) << "the scene must span several chunks";
-  for (int threads : {2, 3}) {
+  struct Run {
+    int threads;
+    const char* isa;
+  };
+  std::vector<Run> runs{{2, "portable"}, {3, "portable"}};
+  if (machine_has_avx2()) runs.insert(runs.end(), {{1, "avx2"}, {2, "avx2"}});
+  else std::cout << "this processor has no AVX2: only the portable kernels are compared\n";
+  for (const auto [threads, isa] : runs) {
+    const KernelChoice chosen(isa);
     suffuse::Simulation parallel(scene, registry, threads);
     for (int k = 0; k < steps; ++k) parallel.step();
     const auto& b = parallel.points();
@@ -33,14 +58,14 @@ void expect_the_same_for_any_thread_count(const nlohmann::json& j, int steps) {
       const auto x = a.values(f), y = b.values(f);
       std::size_t differ = 0;
       for (std::size_t i = 0; i < x.size(); ++i) differ += !(x[i] == y[i] || (x[i] != x[i] && y[i] != y[i]));
-      EXPECT_EQ(differ, 0u) << a.info(f).name << " on " << threads << " threads";
+      EXPECT_EQ(differ, 0u) << a.info(f).name << " on " << threads << " threads, " << isa;
     }
     EXPECT_EQ(serial.time(), parallel.time());
     if (!scene.saturated()) continue;
     const auto la = serial.mass_ledger(), lb = parallel.mass_ledger();
-    EXPECT_EQ(la.fines_discharged(), lb.fines_discharged()) << threads << " threads";
-    EXPECT_EQ(la.fines_imbalance(), lb.fines_imbalance()) << threads << " threads";
-    EXPECT_EQ(la.liquid_imbalance(), lb.liquid_imbalance()) << threads << " threads";
+    EXPECT_EQ(la.fines_discharged(), lb.fines_discharged()) << threads << " threads, " << isa;
+    EXPECT_EQ(la.fines_imbalance(), lb.fines_imbalance()) << threads << " threads, " << isa;
+    EXPECT_EQ(la.liquid_imbalance(), lb.liquid_imbalance()) << threads << " threads, " << isa;
   }
 }
 
@@ -59,6 +84,34 @@ TEST(Threads, DryColumnIn3DIsBitForBitTheSame) {
   j["grid"]["cell_size"] = {0.625, 0.625, 0.625};
   j["grid"]["cells"] = {14, 14, 17};
   expect_the_same_for_any_thread_count(j, 20);
+}
+
+// The dry 2D bench column, cut to 16 cells wide: 10,240 points, GIMP.
+TEST(Threads, DryGimpColumnIsBitForBitTheSame) {
+  auto j = read_json(source_dir() / "share/scenes/bench_column.json");
+  j["grid"]["cells"][0] = 16;
+  j["bodies"][0]["max"][0] = 16 * j["grid"]["cell_size"][0].get<double>();
+  expect_the_same_for_any_thread_count(j, 20);
+}
+
+// The eroding 3D bench column at twice its cell size: two-phase, trilinear.
+TEST(Threads, ErodingColumnIn3DIsBitForBitTheSame) {
+  auto j = read_json(source_dir() / "share/scenes/bench_suffusion_column_3d.json");
+  for (auto& h : j["grid"]["cell_size"]) h = 2 * h.get<double>();
+  for (auto& n : j["grid"]["cells"]) n = n.get<int>() / 2;
+  expect_the_same_for_any_thread_count(j, 20);
+}
+
+TEST(Threads, AnUnknownKernelChoiceIsRefusedByName) {
+  const KernelChoice wrong("avx9");
+  try {
+    suffuse::detail::kernel_isa_for_this_machine();
+    FAIL() << "no error";
+  } catch (const suffuse::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("SUFFUSE_KERNELS: expected auto, portable or avx2, found 'avx9'"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ namespace suffuse::detail {
 Domain::Domain(const Scene& scene, const Registry& registry, int threads)
     : grid(scene.dim, scene.grid_origin, scene.grid_cell_size, scene.grid_cells),
       points(scene.dim),
-      exec(threads, static_cast<std::size_t>(scene.grid_cells[scene.dim - 1])),
+      exec(threads, static_cast<std::size_t>(scene.grid_cells[scene.dim - 1]), kernel_isa_for_this_machine()),
       shape_function_(registry.create<ShapeFunction>(
           scene.shape_function.type, {scene.shape_function.params, scene.dim, scene.shape_function.pointer})),
       average_volumetric_rate_(scene.volumetric_strain == VolumetricStrain::cell_average) {

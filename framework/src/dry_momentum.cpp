@@ -6,17 +6,17 @@ namespace suffuse::detail {
 
 void DryMomentum::points_to_grid() {
   NodeState& n = d_.nodes;
-  const int W = d_.dim() == 2 ? dry_block<2> : dry_block<3>;
-  block_.assign(d_.grid.node_count() * static_cast<std::size_t>(W), 0.0);
+  block_.assign(d_.grid.node_count() * static_cast<std::size_t>(dry_block), 0.0);
   const auto& f = d_.points.core();
-  auto kernel = d_.dim() == 2 ? &p2g_kernel<2> : &p2g_kernel<3>;
   const Interpolation& s = d_.shape;
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(block_);
   d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), d_.points.data(f.mass),
-           d_.points.data(f.volume), d_.points.data(f.velocity), d_.points.data(f.stress), gravity_.data(),
-           mass_scaling_, out[0]);
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      p2g_kernel<D, L>(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), d_.points.data(f.mass),
+                       d_.points.data(f.volume), d_.points.data(f.velocity), d_.points.data(f.stress),
+                       gravity_.data(), mass_scaling_, out[0]);
+    });
   });
   auto unpack = d_.dim() == 2 ? &unpack_dry_block<2> : &unpack_dry_block<3>;
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
@@ -56,12 +56,13 @@ void DryMomentum::remap() {
   std::fill(n.momentum.begin(), n.momentum.end(), 0.0);
   const auto& f = d_.points.core();
   const Interpolation& s = d_.shape;
-  auto kernel = d_.dim() == 2 ? &remap_kernel<2> : &remap_kernel<3>;
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(n.momentum);
   d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), d_.points.data(f.mass), mass_scaling_,
-           d_.points.data(f.velocity), out[0]);
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      remap_kernel<D, L>(b, e, s.npp, s.ids.data(), s.weights.data(), d_.points.data(f.mass), mass_scaling_,
+                         d_.points.data(f.velocity), out[0]);
+    });
   });
   auto velocity = d_.dim() == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {

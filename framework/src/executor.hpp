@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "kernel_isa.hpp"
 #include "suffuse/error.hpp"
 #include "suffuse/grid.hpp"
 
@@ -87,10 +88,19 @@ class Executor {
     return std::max(min_scatter_chunk, (points + layers_ - 1) / layers_);
   }
 
-  explicit Executor(int threads, std::size_t layers = std::numeric_limits<std::size_t>::max() / 2)
-      : threads_(std::max(1, threads)), layers_(std::max<std::size_t>(1, layers)), errors_(threads_) {}
+  static constexpr std::size_t default_layers = std::numeric_limits<std::size_t>::max() / 2;
+  explicit Executor(int threads, std::size_t layers = default_layers, KernelIsa isa = KernelIsa::portable)
+      : threads_(std::max(1, threads)), layers_(std::max<std::size_t>(1, layers)), isa_(isa), errors_(threads_) {}
 
   int threads() const { return threads_; }
+  KernelIsa isa() const { return isa_; }
+
+  // kernel.template operator()<D, L>() for dimension `dim` on this run's
+  // instruction set (kernel_isa.hpp): for the kernels written on Lanes<L>.
+  template <class Kernel>
+  void vector_kernel(int dim, const Kernel& kernel) const {
+    run_vector_kernel(isa_, dim, kernel);
+  }
 
   // Calls body(thread, begin, end) on threads() contiguous chunks of [0, n).
   // An exception in any chunk is rethrown here, after every thread finished.
@@ -198,6 +208,7 @@ class Executor {
  private:
   int threads_;
   std::size_t layers_;
+  KernelIsa isa_;
   std::vector<std::exception_ptr> errors_;  // per thread, for for_chunks
   ScatterRanges ranges_;                    // per scatter chunk: the entries it touches, when not given
   std::vector<std::size_t> offsets_;        // per scatter chunk: where its buffer starts

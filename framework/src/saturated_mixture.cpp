@@ -94,7 +94,6 @@ void SaturatedMixture::points_to_grid() {
   block_.assign(d_.grid.node_count() * static_cast<std::size_t>(W), 0.0);
   PointSet& pts = d_.points;
   const auto& c = pts.core();
-  auto kernel = d_.dim() == 2 ? &p2g_saturated<2> : &p2g_saturated<3>;
   const SaturatedPoints pt{pts.data(c.mass),           pts.data(c.volume),
                            pts.data(c.velocity),       pts.data(c.stress),
                            pts.data(f_.porosity),      pts.data(f_.pressure),
@@ -104,8 +103,10 @@ void SaturatedMixture::points_to_grid() {
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), pt, gravity_.data(), mass_scaling_,
-           out[0]);
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      p2g_saturated<D, L>(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), pt, gravity_.data(),
+                          mass_scaling_, out[0]);
+    });
   });
   const SaturatedNodes nodes{n.mass.data(),         n.momentum.data(),     n.force.data(),
                              n.liquid_mass.data(),  n.liquid_momentum.data(), n.liquid_force.data(),
@@ -153,12 +154,14 @@ void SaturatedMixture::remap() {
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
-  auto kernel = dim == 2 ? &remap_two_phase<2> : &remap_two_phase<3>;
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    kernel(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.mass), pts.data(f_.moving_liquid_mass),
-           mass_scaling_, pts.data(c.velocity), pts.data(f_.liquid_velocity), out[0]);
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      remap_two_phase<D, L>(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.mass),
+                            pts.data(f_.moving_liquid_mass), mass_scaling_, pts.data(c.velocity),
+                            pts.data(f_.liquid_velocity), out[0]);
+    });
   });
   auto unpack = dim == 2 ? &unpack_remap_block<2> : &unpack_remap_block<3>;
   auto velocity = dim == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;

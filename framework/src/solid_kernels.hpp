@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "lanes.hpp"
 #include "suffuse/grid.hpp"
 #include "suffuse/tensor.hpp"
 
@@ -44,38 +45,49 @@ inline double undamped(double damped_force, double velocity, double damping) {
 // arrays could alias it for all the compiler knows, and it would reload it
 // after every store.
 //
-// Points to grid, dry: a node's sums in one block of dry_block<D> values,
-// mass, momentum (D), force (D). Every sum is linear in the node's weight N
-// and gradient: block += a N + B grad N, with a and B formed once per point,
-// so a node costs a few multiply-adds on one contiguous block instead of a
-// load and a store in each of three arrays (unpack_dry_block spreads them).
-template <int D>
-inline constexpr int dry_block = 1 + 2 * D;
+// Points to grid, dry: a node's sums in one block of dry_block values,
+// mass and momentum (1 + D) from its start, force (D) from dry_force.
+// Every sum is linear in the node's weight N and gradient: block += a N +
+// B grad N, with a and B formed once per point, so a node costs a few
+// multiply-adds on one contiguous block instead of a load and a store in each
+// of three arrays (unpack_dry_block spreads them). The block is padded to
+// whole vectors of four, inertia in the first, forces in the second.
+inline constexpr int dry_block = 8, dry_force = 4;
 
-template <int D>
+template <int D, int L = 2>
 void p2g_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w, const double* dw,
                 const double* mass, const double* volume, const double* vel, const double* stress,
                 const double* g, double scale, double* __restrict block) {
-  constexpr int W = dry_block<D>;
+  constexpr int W = dry_block, vectors = W / L;
   for (std::size_t p = begin; p < end; ++p) {
     const double m = mass[p], V = volume[p], inertia = scale * m;
-    double a[W], B[D][D];  // B = -V sigma: the force's coefficients of grad N
+    // a: the coefficients of N; B[j]: those of dN/dx_j (-V sigma, in the
+    // forces only).
+    double a[W] = {}, B[D][W] = {};
     a[0] = inertia;
     for (int i = 0; i < D; ++i) {
       a[1 + i] = inertia * vel[p * D + i];
-      a[1 + D + i] = m * g[i];
-      for (int j = 0; j < D; ++j) B[i][j] = -V * stress[p * 6 + voigt_index(i, j)];
+      a[dry_force + i] = m * g[i];
+      for (int j = 0; j < D; ++j) B[j][dry_force + i] = -V * stress[p * 6 + voigt_index(i, j)];
+    }
+    Lanes<L> A[vectors], G[D][vectors];
+    for (int v = 0; v < vectors; ++v) {
+      A[v] = lanes_of<L>(a + v * L);
+      for (int j = 0; j < D; ++j) G[j][v] = lanes_of<L>(B[j] + v * L);
     }
     for (int k = 0; k < npp; ++k) {
       const std::size_t q = p * npp + k;
       double* __restrict o = block + static_cast<std::size_t>(ids[q]) * W;
       const double N = w[q];
       const double* grad = dw + q * D;
-      for (int c = 0; c <= D; ++c) o[c] += a[c] * N;
-      for (int i = 0; i < D; ++i) {
-        double f = a[1 + D + i] * N;
-        for (int j = 0; j < D; ++j) f += B[i][j] * grad[j];
-        o[1 + D + i] += f;
+      for (int v = 0; v < vectors; ++v) {
+        const int first = v * L, last = first + L;  // the lanes [first, last)
+        if (first > D && last <= dry_force) continue;  // padding only
+        if (first >= dry_force + D) continue;
+        Lanes<L> f = A[v] * N;
+        if (last > dry_force)
+          for (int j = 0; j < D; ++j) f += G[j][v] * grad[j];
+        add_lanes<L>(o + first, f);
       }
     }
   }
@@ -84,11 +96,10 @@ void p2g_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, 
 template <int D>
 void unpack_dry_block(std::size_t begin, std::size_t end, const double* block, double* node_mass, double* node_mom,
                       double* node_force) {
-  constexpr int W = dry_block<D>;
   for (std::size_t I = begin; I < end; ++I) {
-    const double* b = block + I * W;
+    const double* b = block + I * dry_block;
     node_mass[I] = b[0];
-    for (int i = 0; i < D; ++i) node_mom[I * D + i] = b[1 + i], node_force[I * D + i] = b[1 + D + i];
+    for (int i = 0; i < D; ++i) node_mom[I * D + i] = b[1 + i], node_force[I * D + i] = b[dry_force + i];
   }
 }
 
@@ -147,18 +158,15 @@ void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const No
   }
 }
 
-template <int D>
+template <int D, int L = 2>
 void remap_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                   const double* mass, double scale, const double* vel, double* node_mom) {
   for (std::size_t p = begin; p < end; ++p) {
     const double m = scale * mass[p];
-    double v[D];
-    for (int i = 0; i < D; ++i) v[i] = vel[p * D + i];
+    const WeightedValues<D, L> velocity(vel + p * D);
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      const double wm = w[k] * m;
-      for (int i = 0; i < D; ++i) node_mom[I * D + i] += wm * v[i];
+      velocity.add_to(node_mom + static_cast<std::size_t>(ids[k]) * D, w[k] * m);
     }
   }
 }

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "lanes.hpp"
 #include "suffuse/grid.hpp"
 
 namespace suffuse::detail {
@@ -91,17 +92,18 @@ inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const S
 // the point's amount.
 inline constexpr int species_block = 4;
 
-inline void p2g_species(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
-                        const double* volume, const double* n, const double* liquid, const double* fines,
-                        const double* carrying, double* __restrict block) {
+template <int L = 2>
+void p2g_species(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+                 const double* volume, const double* n, const double* liquid, const double* fines,
+                 const double* carrying, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // a dry point holds no liquid
     const double a[species_block] = {n[p] * volume[p], liquid[p], fines ? fines[p] : 0.0,
                                      carrying ? carrying[p] : 0.0};
+    const WeightedValues<species_block, L> amounts(a);
     for (int k = 0; k < npp; ++k) {
       const std::size_t q = p * npp + k;
-      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * species_block;
-      for (int c = 0; c < species_block; ++c) o[c] += w[q] * a[c];
+      amounts.add_to(block + static_cast<std::size_t>(ids[q]) * species_block, w[q]);
     }
   }
 }
@@ -313,34 +315,40 @@ struct Transport {
 // First, per node, the change per amount held (losses) and per pore volume
 // (gains): one division per node rather than one per point and node. They go
 // into one block per node, share_block values: species s's rate per amount
-// at s, per pore volume at 3 + s (liquid, fines, carrying liquid).
-inline constexpr int share_block = 6;
+// at s, per pore volume at 4 + s (liquid, fines, carrying liquid; the fourth
+// of each stays zero, so that each half fills whole vectors).
+inline constexpr int share_block = 8, share_per_pore = 4;
 
 inline void share_rates(std::size_t nodes, int species, const double* node_pore, const double* node_amount,
                         const double* node_change, double* block) {
   for (std::size_t I = 0; I < nodes; ++I) {
     const double d = node_change[I];
     block[I * share_block + species] = d < 0 && node_amount[I] > 0 ? d / node_amount[I] : 0.0;
-    block[I * share_block + 3 + species] = d > 0 ? d / node_pore[I] : 0.0;
+    block[I * share_block + share_per_pore + species] = d > 0 ? d / node_pore[I] : 0.0;
   }
 }
 
 // Up to three species in one pass over the points' nodes (null: absent).
-inline void g2p_share(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
-                      const double* volume, const double* n, const double* block, double* const (&amount)[3]) {
+template <int L = 2>
+void g2p_share(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+               const double* volume, const double* n, const double* block, double* const (&amount)[3]) {
+  constexpr int vectors = share_per_pore / L;
   const int count = amount[2] ? 3 : amount[1] ? 2 : 1;
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;
     const double pore = n[p] * volume[p];
-    double held[3] = {}, change[3] = {};
+    double held[share_per_pore] = {};
     for (int s = 0; s < count; ++s) held[s] = amount[s][p];
+    Lanes<L> H[vectors], change[vectors] = {};
+    for (int v = 0; v < vectors; ++v) H[v] = lanes_of<L>(held + v * L);
     for (int k = 0; k < npp; ++k) {
       const std::size_t q = p * npp + k;
       const double* b = block + static_cast<std::size_t>(ids[q]) * share_block;
       // One of the two rates is zero: the sum is the other term exactly.
-      for (int s = 0; s < 3; ++s) change[s] += w[q] * (held[s] * b[s] + pore * b[3 + s]);
+      for (int v = 0; v < vectors; ++v)
+        change[v] += w[q] * (H[v] * load_lanes<L>(b + v * L) + pore * load_lanes<L>(b + share_per_pore + v * L));
     }
-    for (int s = 0; s < count; ++s) amount[s][p] += change[s];
+    for (int s = 0; s < count; ++s) amount[s][p] += change[s / L][s % L];
   }
 }
 

@@ -294,7 +294,10 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   const double* fines = fines_ ? pts.data(fines_->suspended_fines) : nullptr;
   const double* carrying = fines_ ? pts.data(fines_->carrying_liquid) : nullptr;
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    p2g_species(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, pts.data(m_.liquid_mass), fines, carrying, out[0]);
+    d_.exec.vector_kernel(d_.dim(), [&]<int, int L>() {
+      p2g_species<L>(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, pts.data(m_.liquid_mass), fines, carrying,
+                     out[0]);
+    });
   });
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
     unpack_species_block(b, e, species_block_.data(), node_pore_.data(), node_liquid_.data(),
@@ -342,7 +345,9 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   double* const amounts[3] = {pts.data(m_.liquid_mass), fines ? pts.data(fines_->suspended_fines) : nullptr,
                               fines ? pts.data(fines_->carrying_liquid) : nullptr};
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    g2p_share(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_block_.data(), amounts);
+    d_.exec.vector_kernel(d_.dim(), [&]<int, int L>() {
+      g2p_share<L>(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_block_.data(), amounts);
+    });
     // The momentum balance sees the pores full of the liquid the point
     // carries: n V rho_L, rho_L = c rho_s + (1 - c) rho_w. Not the carried
     // mass itself, which near a free surface inside the grid can pile up

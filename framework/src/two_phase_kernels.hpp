@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "lanes.hpp"
 #include "solid_kernels.hpp"
 #include "suffuse/grid.hpp"
 #include "suffuse/liquid.hpp"
@@ -38,11 +39,13 @@ struct SaturatedPoints {
 template <int D>
 inline constexpr int saturated_block = 4 + 4 * D;
 
-template <int D>
+template <int D, int L = 2>
 void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                    const double* dw, const SaturatedPoints& pt, const double* g, double scale,
                    double* __restrict block) {
   constexpr int W = saturated_block<D>, inertial = 4 + 2 * D;  // the sums without a gradient term
+  constexpr int vectors = W / L, first_force_vector = inertial / L;
+  static_assert(W % L == 0);
   for (std::size_t p = begin; p < end; ++p) {
     const double ms = pt.mass[p], V = pt.volume[p], n = pt.porosity[p], pr = pt.pressure[p];
     // n rho_L V; its intrinsic density times the volume is m_L / n.
@@ -53,7 +56,11 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* id
     const double drag = n > 0 ? n * pt.water_density[p] * reference_gravity * V / pt.conductivity[p] : 0.0;
     const double Vp = V * pr, Vp_liquid = n > 0 ? Vp : 0.0, mixture = ms + ml;
     // Inertia (masses, momenta) carries the mass scaling; forces do not.
-    double a[W], B[2 * D][D];  // B: the mixture's force, V (p I - sigma'), then the liquid's, V p I
+    // a: the coefficients of N; B[j]: those of dN/dx_j, zero but in the
+    // forces (the mixture's V (p I - sigma'), then the liquid's V p I). An
+    // added zero product leaves a sum as it was, so the lanes round as the
+    // scalar sums did.
+    double a[W], B[D][W] = {};
     a[0] = scale * ms, a[1] = scale * ml, a[2] = scale * rho_l_V, a[3] = drag;
     for (int i = 0; i < D; ++i) {
       a[4 + i] = scale * ms * pt.velocity[p * D + i];
@@ -61,20 +68,25 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* id
       a[inertial + i] = mixture * g[i];
       a[inertial + D + i] = rho_l_V * g[i];
       for (int j = 0; j < D; ++j) {
-        B[i][j] = (i == j ? Vp : 0.0) - V * pt.stress[p * 6 + voigt_index(i, j)];
-        B[D + i][j] = i == j ? Vp_liquid : 0.0;
+        B[j][inertial + i] = (i == j ? Vp : 0.0) - V * pt.stress[p * 6 + voigt_index(i, j)];
+        B[j][inertial + D + i] = i == j ? Vp_liquid : 0.0;
       }
+    }
+    Lanes<L> A[vectors], G[D][vectors];
+    for (int v = 0; v < vectors; ++v) {
+      A[v] = lanes_of<L>(a + v * L);
+      for (int j = 0; j < D; ++j) G[j][v] = lanes_of<L>(B[j] + v * L);
     }
     for (int k = 0; k < npp; ++k) {
       const std::size_t q = p * npp + k;
       double* __restrict o = block + static_cast<std::size_t>(ids[q]) * W;
       const double N = w[q];
       const double* grad = dw + q * D;
-      for (int c = 0; c < inertial; ++c) o[c] += a[c] * N;
-      for (int i = 0; i < 2 * D; ++i) {
-        double f = a[inertial + i] * N;
-        for (int j = 0; j < D; ++j) f += B[i][j] * grad[j];
-        o[inertial + i] += f;
+      for (int v = 0; v < vectors; ++v) {
+        Lanes<L> f = A[v] * N;
+        if (v >= first_force_vector)
+          for (int j = 0; j < D; ++j) f += G[j][v] * grad[j];
+        add_lanes<L>(o + v * L, f);
       }
     }
   }
@@ -97,7 +109,7 @@ void unpack_saturated_block(std::size_t begin, std::size_t end, const double* bl
 
 // The MUSL remap of both phases' momenta in one pass, into one block of 2D
 // values per node: the solid's momentum, then the liquid's.
-template <int D>
+template <int D, int L = 2>
 void remap_two_phase(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                      const double* mass, const double* liquid_mass, double scale, const double* vel,
                      const double* liquid_vel, double* __restrict block) {
@@ -105,10 +117,10 @@ void remap_two_phase(std::size_t begin, std::size_t end, int npp, const NodeId* 
     double a[2 * D];
     for (int i = 0; i < D; ++i)
       a[i] = scale * mass[p] * vel[p * D + i], a[D + i] = scale * liquid_mass[p] * liquid_vel[p * D + i];
+    const WeightedValues<2 * D, L> momenta(a);
     for (int k = 0; k < npp; ++k) {
       const std::size_t q = p * npp + k;
-      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * 2 * D;
-      for (int c = 0; c < 2 * D; ++c) o[c] += w[q] * a[c];
+      momenta.add_to(block + static_cast<std::size_t>(ids[q]) * 2 * D, w[q]);
     }
   }
 }

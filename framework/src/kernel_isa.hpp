@@ -1,0 +1,49 @@
+#pragma once
+// The instruction set the vector kernels run on, chosen when a run starts:
+// AVX2 where the processor has it, else the portable x86-64 baseline (SSE2).
+// A kernel written on Lanes<L> (lanes.hpp) is instantiated for both lane
+// counts and both dimensions; run_vector_kernel calls the one chosen,
+// kernel.template operator()<D, L>(): L = 4 on AVX2, 2 otherwise. Its body
+// must call the kernel directly (no function pointer), so that the AVX2
+// copy is compiled where it is inlined. The AVX2 copy is compiled
+// inside a function built for AVX2 (without FMA), so one binary runs on any
+// x86-64 machine and rounds the same on every one of them.
+#include <string>
+
+namespace suffuse::detail {
+
+enum class KernelIsa { portable, avx2 };
+
+// AVX2 if the processor has it; the environment variable SUFFUSE_KERNELS
+// (auto, portable or avx2) overrides, to compare the two. Throws Error on
+// another value, or on avx2 where the processor lacks it.
+KernelIsa kernel_isa_for_this_machine();
+std::string kernel_isa_name(KernelIsa isa);
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define SUFFUSE_HAS_AVX2_KERNELS 1
+template <class Kernel>
+__attribute__((target("avx2"), flatten)) void run_avx2(int dim, const Kernel& kernel) {
+  if (dim == 2)
+    kernel.template operator()<2, 4>();
+  else
+    kernel.template operator()<3, 4>();
+}
+#endif
+
+template <class Kernel>
+void run_vector_kernel(KernelIsa isa, int dim, const Kernel& kernel) {
+#ifdef SUFFUSE_HAS_AVX2_KERNELS
+  if (isa == KernelIsa::avx2) {
+    run_avx2(dim, kernel);
+    return;
+  }
+#endif
+  (void)isa;
+  if (dim == 2)
+    kernel.template operator()<2, 2>();
+  else
+    kernel.template operator()<3, 2>();
+}
+
+}  // namespace suffuse::detail
