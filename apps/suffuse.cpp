@@ -463,7 +463,8 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
     const auto& t = s.stages;
     std::cout << "done: " << s.steps << " steps to t = " << s.simulated_time << " s in "
               << format_duration(s.wall_seconds) << "; " << std::setprecision(3) << s.point_updates_per_second / 1e6
-              << " million point updates per second\n"
+              << " million point updates per second (" << sim.threads() << (sim.threads() == 1 ? " thread, " : " threads, ")
+              << sim.kernels() << " kernels)\n"
               << "  stage times [s]:";
     // The stages this run has (a dry run has no pore pressure, erosion or transport).
     const char* sep = " ";

@@ -128,10 +128,12 @@ void Domain::locate_cells() {
 void Domain::update_kinematics(double dt) {
   const auto& f = points.core();
   if (!average_volumetric_rate_) {  // one pass: L, strain and volume
-    auto kernel = dim() == 2 ? &velocity_gradient_kernel<2> : &velocity_gradient_kernel<3>;
     exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
-      kernel(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(),
-             points.data(f.velocity_gradient), points.data(f.strain), points.data(f.volume));
+      exec.vector_kernel(dim(), [&]<int D, int L>() {
+        velocity_gradient_kernel<D, true, L>(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(),
+                                             nodes.velocity.data(), points.data(f.velocity_gradient),
+                                             points.data(f.strain), points.data(f.volume));
+      });
     });
     return;
   }
@@ -145,10 +147,11 @@ void Domain::update_kinematics(double dt) {
 void Domain::update_velocity_gradient(double dt) {
   const auto& f = points.core();
   double* L = points.data(f.velocity_gradient);
-  auto gradient = dim() == 2 ? &velocity_gradient_kernel<2, false> : &velocity_gradient_kernel<3, false>;
   exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
-    gradient(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(), nodes.velocity.data(), L, nullptr,
-             nullptr);
+    exec.vector_kernel(dim(), [&]<int D, int Lanes>() {
+      velocity_gradient_kernel<D, false, Lanes>(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(),
+                                                nodes.velocity.data(), L, nullptr, nullptr);
+    });
   });
   if (!average_volumetric_rate_) return;
   std::fill(cell_volume_.begin(), cell_volume_.end(), 0.0);

@@ -43,11 +43,12 @@ void DryMomentum::accelerations(double dt) {
 void DryMomentum::grid_to_points(double dt) {
   const auto& f = d_.points.core();
   const Interpolation& s = d_.shape;
-  auto kernel = d_.dim() == 2 ? &g2p_kernel<2> : &g2p_kernel<3>;
   d_.exec.for_chunks(d_.points.size(), [&](int, std::size_t b, std::size_t e) {
-    kernel(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(), d_.nodes.acceleration.data(),
-           d_.points.data(f.position), d_.points.data(f.displacement), d_.points.data(f.velocity), nullptr,
-           nullptr);
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      g2p_kernel<D, false, L>(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(),
+                              d_.nodes.acceleration.data(), d_.points.data(f.position),
+                              d_.points.data(f.displacement), d_.points.data(f.velocity), nullptr, nullptr);
+    });
   });
 }
 

@@ -73,4 +73,18 @@ struct WeightedValues {
   }
 };
 
+// W sums a gather forms from a node's contiguous values: sum += x[c] s for
+// each node, in lanes where they fit (a D-vector in 3D: two lanes and one).
+template <int W, int L>
+struct WeightedSums {
+  static constexpr int lanes = W % L == 0 ? L : W >= 2 ? 2 : 1, vectors = W / lanes, head = vectors * lanes;
+  Lanes<lanes> v[vectors] = {};
+  double tail[W - head + 1] = {};  // one more than needed: never empty
+  void add(const double* x, double s) {
+    for (int k = 0; k < vectors; ++k) v[k] += load_lanes<lanes>(x + k * lanes) * s;
+    for (int c = head; c < W; ++c) tail[c - head] += x[c] * s;
+  }
+  double operator[](int c) const { return c < head ? v[c / lanes][c % lanes] : tail[c - head]; }
+};
+
 }  // namespace suffuse::detail

@@ -34,6 +34,7 @@ void Simulation::write_run_info(const std::filesystem::path& file) const {
   info["end_time"] = scene_.end_time;
   info["damping"] = scene_.damping;
   info["threads"] = threads();
+  info["kernels"] = kernels();
   info["saturated"] = saturated();
   for (std::size_t l = 0; mixture_ && l < scene_.liquids.size(); ++l) {
     const Liquid& liquid = mixture_->liquid(l);

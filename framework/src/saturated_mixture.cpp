@@ -139,11 +139,13 @@ void SaturatedMixture::grid_to_points(double dt) {
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
-  auto kernel = d_.dim() == 2 ? &g2p_kernel<2, true> : &g2p_kernel<3, true>;
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    kernel(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(), d_.nodes.acceleration.data(),
-           pts.data(c.position), pts.data(c.displacement), pts.data(c.velocity), d_.nodes.liquid_acceleration.data(),
-           pts.data(f_.liquid_velocity));
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      g2p_kernel<D, true, L>(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(),
+                             d_.nodes.acceleration.data(), pts.data(c.position), pts.data(c.displacement),
+                             pts.data(c.velocity), d_.nodes.liquid_acceleration.data(),
+                             pts.data(f_.liquid_velocity));
+    });
   });
 }
 
@@ -206,8 +208,10 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
   ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
   targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    p2g_pressure_rate(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.volume), pts.data(f_.porosity),
-                      pts.data(f_.pressure_rate), out[0]);
+    d_.exec.vector_kernel(d_.dim(), [&]<int, int L>() {
+      p2g_pressure_rate<L>(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.volume), pts.data(f_.porosity),
+                           pts.data(f_.pressure_rate), out[0]);
+    });
   });
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
     nodal_pressure_rate(b, e, block_.data(), node_pressure_rate_.data());

@@ -319,6 +319,7 @@ void Simulation::step_quasi_static() {
 }
 
 int Simulation::threads() const { return domain_->exec.threads(); }
+std::string Simulation::kernels() const { return detail::kernel_isa_name(domain_->exec.isa()); }
 const PointSet& Simulation::points() const { return domain_->points; }
 PointSet& Simulation::points() { return domain_->points; }
 const GridGeometry& Simulation::grid() const { return domain_->grid; }

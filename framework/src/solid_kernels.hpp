@@ -134,20 +134,18 @@ void acceleration_kernel(std::size_t begin, std::size_t end, double dt, const do
 // Grid to points: FLIP velocity from the nodal acceleration, positions and
 // displacements from the nodal velocity. WithLiquid: the pore liquid's FLIP
 // velocity too, in the same pass over the points' nodes (the two-phase step).
-template <int D, bool WithLiquid = false>
+template <int D, bool WithLiquid = false, int L = 2>
 void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids, const double* w,
                 const double* node_vel, const double* node_acc, double* x, double* u, double* vel,
                 const double* node_liquid_acc = nullptr, double* liquid_vel = nullptr) {
   for (std::size_t p = begin; p < end; ++p) {
-    double dv[D] = {}, vg[D] = {}, dvl[D] = {};
+    WeightedSums<D, L> dv, vg, dvl;
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      for (int i = 0; i < D; ++i) {
-        dv[i] += w[k] * node_acc[I * D + i];
-        vg[i] += w[k] * node_vel[I * D + i];
-        if constexpr (WithLiquid) dvl[i] += w[k] * node_liquid_acc[I * D + i];
-      }
+      const std::size_t I = static_cast<std::size_t>(ids[k]) * D;
+      dv.add(node_acc + I, w[k]);
+      vg.add(node_vel + I, w[k]);
+      if constexpr (WithLiquid) dvl.add(node_liquid_acc + I, w[k]);
     }
     for (int i = 0; i < D; ++i) {
       vel[p * D + i] += dt * dv[i];
@@ -184,24 +182,24 @@ void velocity_from_momentum(std::size_t begin, std::size_t end, const double* ma
 // sum_I v_I (grad N_I)^T. Integrate: also strain += sym(L) dt and
 // volume *= det(I + L dt) in the same pass (strain_volume_kernel does it
 // after a change of L).
-template <int D, bool Integrate = true>
+template <int D, bool Integrate = true, int L = 2>
 void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids,
-                              const double* dw, const double* node_vel, double* L, double* strain, double* volume) {
+                              const double* dw, const double* node_vel, double* L_field, double* strain,
+                              double* volume) {
   for (std::size_t p = begin; p < end; ++p) {
-    double l[D][D] = {};
+    WeightedSums<D, L> column[D];  // column j: v_i dN/dx_j over i
     for (int a = 0; a < npp; ++a) {
       const std::size_t k = p * npp + a;
-      const std::int64_t I = ids[k];
-      for (int i = 0; i < D; ++i)
-        for (int j = 0; j < D; ++j) l[i][j] += node_vel[I * D + i] * dw[k * D + j];
+      const double* v = node_vel + static_cast<std::size_t>(ids[k]) * D;
+      for (int j = 0; j < D; ++j) column[j].add(v, dw[k * D + j]);
     }
-    double* Lp = L + p * D * D;
+    double* Lp = L_field + p * D * D;
     for (int i = 0; i < D; ++i)
-      for (int j = 0; j < D; ++j) Lp[i * D + j] = l[i][j];
+      for (int j = 0; j < D; ++j) Lp[i * D + j] = column[j][i];
     if constexpr (Integrate) {
       double* e = strain + p * 6;
       for (int i = 0; i < D; ++i)
-        for (int j = i; j < D; ++j) e[voigt_index(i, j)] += 0.5 * (l[i][j] + l[j][i]) * dt;
+        for (int j = i; j < D; ++j) e[voigt_index(i, j)] += 0.5 * (Lp[i * D + j] + Lp[j * D + i]) * dt;
       // Volume follows det(I + L dt) of the step.
       volume[p] *= step_jacobian<D>(Lp, dt);
     }

@@ -135,6 +135,16 @@ struct TransportGrid {
   const double* inflow_carrying;
 };
 
+// What the exchange reads of each node, formed once per node rather than at
+// each of its faces (every face was computed from both of its nodes):
+// liquid per pore volume (NaN without pores), the fines' and the carrying
+// liquid's shares of the liquid, the share of its content the node may send
+// (Transport::scale); and per face to I + e_a, 3 per node and axis, the
+// liquid, fines and carrying liquid crossing it (face_transfer).
+struct NodeShares {
+  double *per_pore, *fines_ratio, *carrying_ratio, *send, *flow;
+};
+
 template <int D>
 struct Transport {
   const TransportGrid& g;
@@ -221,20 +231,38 @@ struct Transport {
     return s_back * s_ahead > 0 ? up + s_back * s_ahead / (s_back + s_ahead) : up;  // half the harmonic mean
   }
 
+  // Pass 2: per node, what its faces read (NodeShares), once `out` is final.
+  void shares(std::size_t begin, std::size_t end, const double* out, const NodeShares& s) const {
+    for (std::size_t I = begin; I < end; ++I) {
+      s.per_pore[I] = g.pore[I] > 0 ? g.liquid[I] / g.pore[I] : std::numeric_limits<double>::quiet_NaN();
+      if (g.fines) s.fines_ratio[I] = ratio(g.fines, I), s.carrying_ratio[I] = ratio(g.carrying, I);
+      s.send[I] = scale(static_cast<std::int64_t>(I), out);
+    }
+  }
+
+  // Pass 3: what crosses each face between a node I and I + e_a.
+  void flows(std::size_t begin, std::size_t end, const NodeShares& s) const {
+    for (std::size_t n = begin; n < end; ++n) {
+      const auto I = static_cast<std::int64_t>(n);
+      const auto c = ijk(I);
+      for (int a = 0; a < D; ++a)
+        if (c[a] < g.nodes[a] - 1) face_transfer(I, a, c, s, s.flow + (n * D + a) * 3);
+    }
+  }
+
   // Liquid and fines crossing the face between I and I + e_a, positive
   // towards I + e_a. The liquid's face value is limited per pore volume;
   // the fines' is the liquid's times the limited fines-to-liquid ratio, so
   // the water crossing is never negative. A node sends at most a quarter of
   // its pore volume per step: with face values at most twice the node's,
-  // neither amount can turn negative. Both nodes of a face compute the same
-  // bits. The liquid carrying the suspension crosses as the fines do, with
-  // its own limited share of the liquid (a tracer: at a suspension front its
-  // share and the fines are smeared alike, see carrier_state).
-  void face_transfer(std::int64_t I, int a, const std::array<int, 3>& c, const double* out, double& liquid,
-                     double& fines, double& carrying) const {
-    liquid = fines = carrying = 0;
+  // neither amount can turn negative. The liquid carrying the suspension
+  // crosses as the fines do, with its own limited share of the liquid (a
+  // tracer: at a suspension front its share and the fines are smeared alike,
+  // see carrier_state). flow: liquid, fines, carrying liquid.
+  void face_transfer(std::int64_t I, int a, const std::array<int, 3>& c, const NodeShares& s, double* flow) const {
+    flow[0] = flow[1] = flow[2] = 0;
     const double vol = face_volume(I, a, c);
-    if (vol == 0) return;
+    if (vol == 0) return;  // both nodes hold liquid otherwise (faces)
     const bool forward = vol > 0;
     const std::int64_t up = forward ? I : I + stride(a), down = forward ? I + stride(a) : I;
     // Upstream of the upwind node: its neighbour, or at an inlet face what
@@ -246,53 +274,50 @@ struct Transport {
     if (has_far) {
       const std::int64_t far = forward ? up - stride(a) : up + stride(a);
       if (g.pore[far] > 0) {
-        far_liquid = g.liquid[far] / g.pore[far];
-        if (g.fines) far_ratio = ratio(g.fines, far), far_carrying = ratio(g.carrying, far);
+        far_liquid = s.per_pore[far];
+        if (g.fines) far_ratio = s.fines_ratio[far], far_carrying = s.carrying_ratio[far];
       }
     } else if (!std::isnan(g.inflow_liquid[up * D + a])) {
       far_liquid = g.inflow_liquid[up * D + a];
       far_ratio = g.inflow_fines[up * D + a] / far_liquid;
       far_carrying = g.inflow_carrying[up * D + a] / far_liquid;
     }
-    const double value = limited(g.liquid[up] / g.pore[up], g.liquid[down] / g.pore[down], far_liquid);
-    liquid = scale(up, out) * vol * value;
+    const double value = limited(s.per_pore[up], s.per_pore[down], far_liquid);
+    flow[0] = s.send[up] * vol * value;
     if (g.fines) {
-      fines = liquid * limited(ratio(g.fines, up), ratio(g.fines, down), far_ratio);
-      carrying = liquid * limited(ratio(g.carrying, up), ratio(g.carrying, down), far_carrying);
+      flow[1] = flow[0] * limited(s.fines_ratio[up], s.fines_ratio[down], far_ratio);
+      flow[2] = flow[0] * limited(s.carrying_ratio[up], s.carrying_ratio[down], far_carrying);
     }
   }
   // Share of a node's liquid an amount is (fines, carrying liquid).
-  double ratio(const double* amount, std::int64_t I) const { return g.liquid[I] > 0 ? amount[I] / g.liquid[I] : 0.0; }
+  double ratio(const double* amount, std::size_t I) const { return g.liquid[I] > 0 ? amount[I] / g.liquid[I] : 0.0; }
 
-  // Pass 2: net change of liquid, fines and carrying liquid at each node from
+  // Pass 4: net change of liquid, fines and carrying liquid at each node from
   // its interior faces. Also writes what each node loses through free surfaces.
-  void exchange(std::size_t begin, std::size_t end, const double* out, double* d_liquid, double* d_fines,
+  void exchange(std::size_t begin, std::size_t end, const NodeShares& s, double* d_liquid, double* d_fines,
                 double* d_carrying, double* free_liquid, double* free_fines, double* free_carrying) const {
     for (std::size_t n = begin; n < end; ++n) {
       const auto I = static_cast<std::int64_t>(n);
       const auto c = ijk(I);
       double dl = 0, df = 0, dc = 0;
       for (int a = 0; a < D; ++a) {
-        double liquid, fines, carrying;
         if (c[a] < g.nodes[a] - 1) {
-          face_transfer(I, a, c, out, liquid, fines, carrying);
-          dl -= liquid;
-          df -= fines;
-          dc -= carrying;
+          const double* f = s.flow + (n * D + a) * 3;
+          dl -= f[0];
+          df -= f[1];
+          dc -= f[2];
         }
         if (c[a] > 0) {
-          auto below = c;
-          --below[a];
-          face_transfer(I - stride(a), a, below, out, liquid, fines, carrying);
-          dl += liquid;
-          df += fines;
-          dc += carrying;
+          const double* f = s.flow + (static_cast<std::size_t>(I - stride(a)) * D + a) * 3;
+          dl += f[0];
+          df += f[1];
+          dc += f[2];
         }
       }
       // Free-surface outflow: what the node sends out of the liquid region.
       const double free = free_surface_volume(I, c);
       if (free > 0) {
-        const double share = scale(I, out) * free / g.pore[I];
+        const double share = s.send[n] * free / g.pore[I];
         free_liquid[n] = share * g.liquid[I];
         free_fines[n] = g.fines ? share * g.fines[I] : 0.0;
         free_carrying[n] = g.fines ? share * g.carrying[I] : 0.0;

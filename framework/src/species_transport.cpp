@@ -66,8 +66,10 @@ SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry,
   node_face_.assign(nn * scene.dim, 0.0);
   for (auto* v : {&node_pore_, &node_liquid_, &node_fines_, &node_carrying_, &node_out_, &node_dliquid_,
                   &node_dfines_, &node_dcarrying_, &node_free_liquid_, &node_free_fines_, &node_free_carrying_,
-                  &stage_dliquid_, &stage_dfines_, &stage_dcarrying_, &stage_liquid_, &stage_fines_, &stage_carrying_})
+                  &stage_dliquid_, &stage_dfines_, &stage_dcarrying_, &stage_liquid_, &stage_fines_, &stage_carrying_,
+                  &node_per_pore_, &node_fines_ratio_, &node_carrying_ratio_, &node_send_})
     v->assign(nn, 0.0);
+  face_flow_.assign(nn * scene.dim * 3, 0.0);
   share_block_.assign(nn * share_block, 0.0);  // the fines' rates stay zero where the run tracks none
   setup_openings(scene, mixture, bcs);
 }
@@ -234,8 +236,12 @@ void SpeciesTransport::explicit_stage(double dt, const double* liquid, const dou
       for (const OpeningNode& on : o.nodes)
         node_out_[on.node] +=
             0.25 * std::max(0.0, dt * on.area * o.face.outward() * transport.darcy(on.node, o.face.axis));
+    const NodeShares shares{node_per_pore_.data(), node_fines_ratio_.data(), node_carrying_ratio_.data(),
+                            node_send_.data(), face_flow_.data()};
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.shares(b, e, node_out_.data(), shares); });
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.flows(b, e, shares); });
     d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
-      transport.exchange(b, e, node_out_.data(), node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
+      transport.exchange(b, e, shares, node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
                          node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data());
     });
     // What crossed each account this step, summed in node order (independent

@@ -125,6 +125,8 @@ class SpeciesTransport {
   // Heun's first stage: its changes, and the nodal amounts after it.
   std::vector<double> stage_dliquid_, stage_dfines_, stage_dcarrying_, stage_liquid_, stage_fines_, stage_carrying_;
   std::vector<std::array<double, 4>> stage_discharge_;
+  // What the exchange reads per node and per face (NodeShares).
+  std::vector<double> node_per_pore_, node_fines_ratio_, node_carrying_ratio_, node_send_, face_flow_;
   // Per node, the scatter's sums (species_block) and the change shared per
   // amount held and per pore volume (share_block, g2p_share).
   std::vector<double> species_block_, share_block_;

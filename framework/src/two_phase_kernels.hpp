@@ -191,16 +191,16 @@ std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt
 
 // Pressure smoothing, scatter half: volume-weighted nodal pressure rates,
 // into one block of two values per node (sum N V rate, sum N V).
-inline void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
-                              const double* volume, const double* n, const double* rate, double* __restrict block) {
+template <int L = 2>
+void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+                       const double* volume, const double* n, const double* rate, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // dry points neither give nor take pore pressure
     const double a[2] = {volume[p] * rate[p], volume[p]};
+    const WeightedValues<2, L> rates(a);
     for (int k = 0; k < npp; ++k) {
       const std::size_t q = p * npp + k;
-      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * 2;
-      o[0] += w[q] * a[0];
-      o[1] += w[q] * a[1];
+      rates.add_to(block + static_cast<std::size_t>(ids[q]) * 2, w[q]);
     }
   }
 }
