@@ -1,5 +1,4 @@
 #pragma once
-#pragma GCC diagnostic ignored "-Wpsabi"
 // L doubles as one value (GCC's vector extension), for the sums of one
 // node's block. Kernels take L as a template parameter: 2 on the portable
 // x86-64 baseline (SSE2), 4 where they are built for AVX2 (kernel_isa.hpp).
