@@ -182,7 +182,7 @@ void velocity_gradient(benchmark::State& state, const char* shape_name) {
 void transport_share(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
   std::vector<double> block(s.nodes * share_block, 0.0), amount(s.n, 1.0);
-  share_rates(s.nodes, 0, s.node_scalar.data(), s.node_scalar.data(), s.node_vector.data(), block.data());
+  share_rates(0, s.nodes, 0, s.node_scalar.data(), s.node_scalar.data(), s.node_vector.data(), block.data());
   double* const amounts[3] = {amount.data(), nullptr, nullptr};
   for (auto _ : state) {
     vector_kernel([&]<int, int L>() {

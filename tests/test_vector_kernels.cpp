@@ -259,7 +259,7 @@ void expect_each_kernel_is_its_scalar_form() {
     // The transport's shares: rates per amount held and per pore volume.
     std::vector<double> block(nodes * share_block, 0.0);
     for (int s = 0; s < 3; ++s)
-      share_rates(nodes, s, d.node_scalar.data(), d.node_scalar.data(), d.node_a.data() + s, block.data());
+      share_rates(0, nodes, s, d.node_scalar.data(), d.node_scalar.data(), d.node_a.data() + s, block.data());
     std::vector<double> held[3] = {d.liquid_mass, d.fines, d.carrying}, held2[3] = {d.liquid_mass, d.fines, d.carrying};
     for (std::size_t p = 0; p < points; ++p) {
       if (d.n[p] <= 0) continue;

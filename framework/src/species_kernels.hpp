@@ -344,9 +344,9 @@ struct Transport {
 // of each stays zero, so that each half fills whole vectors).
 inline constexpr int share_block = 8, share_per_pore = 4;
 
-inline void share_rates(std::size_t nodes, int species, const double* node_pore, const double* node_amount,
-                        const double* node_change, double* block) {
-  for (std::size_t I = 0; I < nodes; ++I) {
+inline void share_rates(std::size_t begin, std::size_t end, int species, const double* node_pore,
+                        const double* node_amount, const double* node_change, double* block) {
+  for (std::size_t I = begin; I < end; ++I) {
     const double d = node_change[I];
     block[I * share_block + species] = d < 0 && node_amount[I] > 0 ? d / node_amount[I] : 0.0;
     block[I * share_block + share_per_pore + species] = d > 0 ? d / node_pore[I] : 0.0;

@@ -319,18 +319,22 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
     // Heun: U1 = U + D(U); the step's change is (D(U) + D(U1)) / 2, and so is
     // what crossed each account.
     const std::size_t nn = d_.grid.node_count();
-    for (std::size_t I = 0; I < nn; ++I) {
-      stage_dliquid_[I] = node_dliquid_[I], stage_liquid_[I] = node_liquid_[I] + node_dliquid_[I];
-      stage_dfines_[I] = node_dfines_[I], stage_fines_[I] = node_fines_[I] + node_dfines_[I];
-      stage_dcarrying_[I] = node_dcarrying_[I], stage_carrying_[I] = node_carrying_[I] + node_dcarrying_[I];
-    }
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+      for (std::size_t I = b; I < e; ++I) {
+        stage_dliquid_[I] = node_dliquid_[I], stage_liquid_[I] = node_liquid_[I] + node_dliquid_[I];
+        stage_dfines_[I] = node_dfines_[I], stage_fines_[I] = node_fines_[I] + node_dfines_[I];
+        stage_dcarrying_[I] = node_dcarrying_[I], stage_carrying_[I] = node_carrying_[I] + node_dcarrying_[I];
+      }
+    });
     stage_discharge_ = discharge_step_;
     explicit_stage(dt, stage_liquid_.data(), stage_fines_.data(), stage_carrying_.data(), discharge_step_);
-    for (std::size_t I = 0; I < nn; ++I) {
-      node_dliquid_[I] = 0.5 * (stage_dliquid_[I] + node_dliquid_[I]);
-      node_dfines_[I] = 0.5 * (stage_dfines_[I] + node_dfines_[I]);
-      node_dcarrying_[I] = 0.5 * (stage_dcarrying_[I] + node_dcarrying_[I]);
-    }
+    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+      for (std::size_t I = b; I < e; ++I) {
+        node_dliquid_[I] = 0.5 * (stage_dliquid_[I] + node_dliquid_[I]);
+        node_dfines_[I] = 0.5 * (stage_dfines_[I] + node_dfines_[I]);
+        node_dcarrying_[I] = 0.5 * (stage_dcarrying_[I] + node_dcarrying_[I]);
+      }
+    });
     for (std::size_t k = 0; k < discharge_step_.size(); ++k)
       for (int i = 0; i < 4; ++i) discharge_step_[k][i] = 0.5 * (stage_discharge_[k][i] + discharge_step_[k][i]);
   }
@@ -343,11 +347,13 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   double* moving = pts.data(m_.moving_liquid_mass);
   double* c = fines_ ? pts.data(fines_->concentration) : nullptr;
   const std::size_t nn = d_.grid.node_count();
-  share_rates(nn, 0, node_pore_.data(), node_liquid_.data(), node_dliquid_.data(), share_block_.data());
-  if (fines) {
-    share_rates(nn, 1, node_pore_.data(), node_fines_.data(), node_dfines_.data(), share_block_.data());
-    share_rates(nn, 2, node_pore_.data(), node_carrying_.data(), node_dcarrying_.data(), share_block_.data());
-  }
+  d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+    share_rates(b, e, 0, node_pore_.data(), node_liquid_.data(), node_dliquid_.data(), share_block_.data());
+    if (fines) {
+      share_rates(b, e, 1, node_pore_.data(), node_fines_.data(), node_dfines_.data(), share_block_.data());
+      share_rates(b, e, 2, node_pore_.data(), node_carrying_.data(), node_dcarrying_.data(), share_block_.data());
+    }
+  });
   double* const amounts[3] = {pts.data(m_.liquid_mass), fines ? pts.data(fines_->suspended_fines) : nullptr,
                               fines ? pts.data(fines_->carrying_liquid) : nullptr};
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
@@ -398,10 +404,12 @@ void SpeciesTransport::finish_step() {
   const double* fer = pts.data(fines_->eroded_fraction);
   double* dfc = pts.data(fines_->fines_content_increment);
   double* dfer = pts.data(fines_->eroded_fraction_increment);
-  for (std::size_t p = 0; p < pts.size(); ++p) {
-    dfc[p] = fc[p] - step_fines_content_[p];
-    dfer[p] = fer[p] - step_eroded_fraction_[p];
-  }
+  d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      dfc[p] = fc[p] - step_fines_content_[p];
+      dfer[p] = fer[p] - step_eroded_fraction_[p];
+    }
+  });
 }
 
 double SpeciesTransport::largest_eroded_fraction_increment() const {
