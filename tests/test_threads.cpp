@@ -4,10 +4,13 @@
 // kernels round each lane as the scalar code would (kernel_isa.hpp). Whole
 // runs on 1, 2 and 3 threads and on the portable and AVX2 kernels, compared
 // bit for bit in every point field and the mass ledger, on scenes of several
-// scatter chunks (the kernel-level check is in test_kernels.cpp).
+// scatter chunks (the kernel-level checks are in test_kernels.cpp and
+// test_vector_kernels.cpp). Compared bit for bit: +0 and -0 differ.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <cstring>
+#include <string>
 
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/simulation.hpp>
@@ -21,14 +24,34 @@ using suffuse::test::read_json;
 using suffuse::test::scene_from;
 using suffuse::test::source_dir;
 
-// Sets SUFFUSE_KERNELS for the simulations built in its lifetime.
+// Sets SUFFUSE_KERNELS for the simulations built in its lifetime, then
+// restores what the user had set.
 class KernelChoice {
  public:
-  explicit KernelChoice(const char* isa) { setenv("SUFFUSE_KERNELS", isa, 1); }
-  ~KernelChoice() { unsetenv("SUFFUSE_KERNELS"); }
+  explicit KernelChoice(const char* isa) {
+    const char* before = std::getenv("SUFFUSE_KERNELS");
+    had_ = before != nullptr;
+    if (had_) before_ = before;
+    setenv("SUFFUSE_KERNELS", isa, 1);
+  }
+  ~KernelChoice() {
+    if (had_)
+      setenv("SUFFUSE_KERNELS", before_.c_str(), 1);
+    else
+      unsetenv("SUFFUSE_KERNELS");
+  }
+  KernelChoice(const KernelChoice&) = delete;
+  KernelChoice& operator=(const KernelChoice&) = delete;
+
+ private:
+  bool had_ = false;
+  std::string before_;
 };
 
+// Unless the user chose the portable kernels (as under valgrind).
 bool machine_has_avx2() {
+  const char* chosen = std::getenv("SUFFUSE_KERNELS");
+  if (chosen && std::string(chosen) == "portable") return false;
   const KernelChoice automatic("auto");
   return suffuse::detail::kernel_isa_for_this_machine() == suffuse::detail::KernelIsa::avx2;
 }
@@ -57,7 +80,7 @@ void expect_the_same_for_any_thread_count(const nlohmann::json& j, int steps) {
     for (suffuse::FieldId f = 0; f < a.field_count(); ++f) {
       const auto x = a.values(f), y = b.values(f);
       std::size_t differ = 0;
-      for (std::size_t i = 0; i < x.size(); ++i) differ += !(x[i] == y[i] || (x[i] != x[i] && y[i] != y[i]));
+      for (std::size_t i = 0; i < x.size(); ++i) differ += std::memcmp(&x[i], &y[i], sizeof(double)) != 0;
       EXPECT_EQ(differ, 0u) << a.info(f).name << " on " << threads << " threads, " << isa;
     }
     EXPECT_EQ(serial.time(), parallel.time());

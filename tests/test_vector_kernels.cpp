@@ -1,12 +1,18 @@
 // The kernels written on lanes (lanes.hpp) against the scalar forms they
-// replaced, on random data, bit for bit, on each instruction set this
-// machine has (kernel_isa.hpp): the scatters (dry and saturated points to
-// grid, both remaps, species, pressure rates), and the gathers (grid to
-// points, velocity gradient, the transport's shares), in 2D and 3D. Node ids
-// repeat within a point's support, as they do at a grid edge.
+// replaced, on random data, bit for bit: the scatters (dry and saturated
+// points to grid, both remaps, species, pressure rates), and the gathers
+// (grid to points, velocity gradient, the transport's shares), in 2D and 3D,
+// with two lanes, with four lanes on the baseline (the AVX2 path's logic on
+// any machine) and on AVX2 where this machine has it (kernel_isa.hpp). Node
+// ids repeat within a point's support, as they do at a grid edge. Then the
+// transport's exchange from per-node shares against the per-face form it
+// replaced (each face from both of its nodes).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -23,12 +29,36 @@ using suffuse::NodeId;
 
 constexpr std::size_t points = 300, nodes = 40;
 
-std::vector<KernelIsa> instruction_sets() {
-  std::vector<KernelIsa> sets{KernelIsa::portable};
+// How a kernel runs: two lanes (the portable kernels), four lanes compiled
+// for the baseline, or the AVX2 copy.
+enum class Variant { two_lanes, four_lanes_baseline, avx2 };
+
+std::string name(Variant v) {
+  return v == Variant::two_lanes ? "two lanes" : v == Variant::avx2 ? "avx2" : "four lanes on the baseline";
+}
+
+// Every variant, but AVX2 only where the processor has it and the user did
+// not choose the portable kernels (as under valgrind).
+std::vector<Variant> variants() {
+  std::vector<Variant> all{Variant::two_lanes, Variant::four_lanes_baseline};
+  const char* chosen = std::getenv("SUFFUSE_KERNELS");
+  const std::string before = chosen ? chosen : "";
+  if (before == "portable") return all;
   setenv("SUFFUSE_KERNELS", "auto", 1);
-  if (kernel_isa_for_this_machine() == KernelIsa::avx2) sets.push_back(KernelIsa::avx2);
-  unsetenv("SUFFUSE_KERNELS");
-  return sets;
+  if (kernel_isa_for_this_machine() == KernelIsa::avx2) all.push_back(Variant::avx2);
+  if (chosen)
+    setenv("SUFFUSE_KERNELS", before.c_str(), 1);
+  else
+    unsetenv("SUFFUSE_KERNELS");
+  return all;
+}
+
+template <int D, class Kernel>
+void run(Variant v, const Kernel& kernel) {
+  if (v == Variant::four_lanes_baseline)
+    kernel.template operator()<D, 4>();
+  else
+    run_vector_kernel(v == Variant::avx2 ? KernelIsa::avx2 : KernelIsa::portable, D, kernel);
 }
 
 bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
@@ -175,19 +205,19 @@ template <int D>
 void expect_each_kernel_is_its_scalar_form() {
   const Data<D> d(D == 2 ? 17u : 29u);
   const double g[3] = {0.3, -9.81, 0.7}, scale = 1.7, dt = 1e-3;
-  for (const KernelIsa isa : instruction_sets()) {
-    const std::string on = " in " + std::to_string(D) + "D on " + kernel_isa_name(isa);
+  for (const Variant isa : variants()) {
+    const std::string on = " in " + std::to_string(D) + "D, " + name(isa);
     // Points to grid, saturated and dry.
     std::vector<double> want(nodes * saturated_block<D>, 0.0), got = want;
     p2g_saturated_scalar(d, g, scale, want.data());
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       p2g_saturated<D, L>(0, points, d.npp, d.ids.data(), d.w.data(), d.dw.data(), d.saturated(), g, scale,
                           got.data());
     });
     EXPECT_TRUE(same_bits(want, got)) << "p2g_saturated" << on;
     want.assign(nodes * dry_block, 0.0), got = want;
     p2g_dry_scalar(d, g, scale, want.data());
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       p2g_kernel<D, L>(0, points, d.npp, d.ids.data(), d.w.data(), d.dw.data(), d.mass.data(), d.volume.data(),
                        d.vel.data(), d.stress.data(), g, scale, got.data());
     });
@@ -202,7 +232,7 @@ void expect_each_kernel_is_its_scalar_form() {
           want[d.ids[q] * 2 * D + D + i] += d.w[q] * (scale * d.liquid_mass[p] * d.liquid_vel[p * D + i]);
         }
       }
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       remap_two_phase<D, L>(0, points, d.npp, d.ids.data(), d.w.data(), d.mass.data(), d.liquid_mass.data(), scale,
                             d.vel.data(), d.liquid_vel.data(), got.data());
     });
@@ -213,7 +243,7 @@ void expect_each_kernel_is_its_scalar_form() {
         const std::size_t q = p * d.npp + k;
         for (int i = 0; i < D; ++i) want[d.ids[q] * D + i] += d.w[q] * (scale * d.mass[p]) * d.vel[p * D + i];
       }
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       remap_kernel<D, L>(0, points, d.npp, d.ids.data(), d.w.data(), d.mass.data(), scale, d.vel.data(), got.data());
     });
     EXPECT_TRUE(same_bits(want, got)) << "remap_kernel" << on;
@@ -225,7 +255,7 @@ void expect_each_kernel_is_its_scalar_form() {
       const double a[4] = {d.n[p] * d.volume[p], d.liquid_mass[p], d.fines[p], d.carrying[p]};
       return a[c];
     }, want.data());
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       p2g_species<L>(0, points, d.npp, d.ids.data(), d.w.data(), d.volume.data(), d.n.data(),
                      d.liquid_mass.data(), d.fines.data(), d.carrying.data(), got.data());
     });
@@ -234,7 +264,7 @@ void expect_each_kernel_is_its_scalar_form() {
     weighted_scalar(d, 2, [&](std::size_t p, int c) {
       return d.n[p] <= 0 ? 0.0 : c == 0 ? d.volume[p] * d.rate[p] : d.volume[p];
     }, want.data());
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       p2g_pressure_rate<L>(0, points, d.npp, d.ids.data(), d.w.data(), d.volume.data(), d.n.data(), d.rate.data(),
                            got.data());
     });
@@ -243,19 +273,39 @@ void expect_each_kernel_is_its_scalar_form() {
     std::vector<double> x(points * D, 0.5), u(points * D, 0.1), v(points * D, -0.2), vl(points * D, 0.3);
     std::vector<double> x2 = x, u2 = u, v2 = v, vl2 = vl;
     g2p_scalar(d, dt, x.data(), u.data(), v.data(), vl.data());
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       g2p_kernel<D, true, L>(0, points, d.npp, dt, d.ids.data(), d.w.data(), d.node_a.data(), d.node_b.data(),
                              x2.data(), u2.data(), v2.data(), d.node_c.data(), vl2.data());
     });
     EXPECT_TRUE(same_bits(x, x2) && same_bits(u, u2) && same_bits(v, v2) && same_bits(vl, vl2)) << "g2p" << on;
+    run<D>(isa, [&]<int, int L>() {  // the solid alone, as the dry step calls it
+      g2p_kernel<D, false, L>(0, points, d.npp, dt, d.ids.data(), d.w.data(), d.node_a.data(), d.node_b.data(),
+                              x2.data(), u2.data(), v2.data());
+    });
+    std::vector<double> vl_unused(points * D, 0.3);
+    g2p_scalar(d, dt, x.data(), u.data(), v.data(), vl_unused.data());
+    EXPECT_TRUE(same_bits(x, x2) && same_bits(u, u2) && same_bits(v, v2)) << "g2p without liquid" << on;
     // Velocity gradient.
     std::vector<double> L1(points * D * D), L2 = L1;
     velocity_gradient_scalar(d, L1.data());
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       velocity_gradient_kernel<D, false, L>(0, points, d.npp, dt, d.ids.data(), d.dw.data(), d.node_a.data(),
                                             L2.data(), nullptr, nullptr);
     });
     EXPECT_TRUE(same_bits(L1, L2)) << "velocity_gradient" << on;
+    // Integrated: the strain increment and the volume from L.
+    std::vector<double> e1(points * 6, 0.01), e2 = e1, V1 = d.volume, V2 = d.volume;
+    for (std::size_t p = 0; p < points; ++p) {
+      const double* Lp = L1.data() + p * D * D;
+      for (int i = 0; i < D; ++i)
+        for (int j = i; j < D; ++j) e1[p * 6 + voigt_index(i, j)] += 0.5 * (Lp[i * D + j] + Lp[j * D + i]) * dt;
+      V1[p] *= step_jacobian<D>(Lp, dt);
+    }
+    run<D>(isa, [&]<int, int L>() {
+      velocity_gradient_kernel<D, true, L>(0, points, d.npp, dt, d.ids.data(), d.dw.data(), d.node_a.data(),
+                                           L2.data(), e2.data(), V2.data());
+    });
+    EXPECT_TRUE(same_bits(L1, L2) && same_bits(e1, e2) && same_bits(V1, V2)) << "velocity_gradient, integrated" << on;
     // The transport's shares: rates per amount held and per pore volume.
     std::vector<double> block(nodes * share_block, 0.0);
     for (int s = 0; s < 3; ++s)
@@ -273,11 +323,137 @@ void expect_each_kernel_is_its_scalar_form() {
       for (int s = 0; s < 3; ++s) held[s][p] += change[s];
     }
     double* const amounts[3] = {held2[0].data(), held2[1].data(), held2[2].data()};
-    run_vector_kernel(isa, D, [&]<int, int L>() {
+    run<D>(isa, [&]<int, int L>() {
       g2p_share<L>(0, points, d.npp, d.ids.data(), d.w.data(), d.volume.data(), d.n.data(), block.data(), amounts);
     });
     for (int s = 0; s < 3; ++s) EXPECT_TRUE(same_bits(held[s], held2[s])) << "g2p_share, species " << s << on;
   }
+}
+
+// The transport's exchange as it was: each face computed from both of its
+// nodes, dividing where it reads (species_kernels.hpp had this form).
+template <int D>
+void face_from_both_nodes(const Transport<D>& t, std::int64_t I, int a, const std::array<int, 3>& c,
+                          const double* out, double& liquid, double& fines, double& carrying) {
+  const TransportGrid& g = t.g;
+  const auto ratio = [&](const double* amount, std::int64_t J) { return g.liquid[J] > 0 ? amount[J] / g.liquid[J] : 0.0; };
+  liquid = fines = carrying = 0;
+  const double vol = t.face_volume(I, a, c);
+  if (vol == 0) return;
+  const bool forward = vol > 0;
+  const std::int64_t up = forward ? I : I + t.stride(a), down = forward ? I + t.stride(a) : I;
+  const int up_index = forward ? c[a] : c[a] + 1;
+  const bool has_far = forward ? up_index > 0 : up_index < g.nodes[a] - 1;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  double far_liquid = nan, far_ratio = nan, far_carrying = nan;
+  if (has_far) {
+    const std::int64_t far = forward ? up - t.stride(a) : up + t.stride(a);
+    if (g.pore[far] > 0) {
+      far_liquid = g.liquid[far] / g.pore[far];
+      if (g.fines) far_ratio = ratio(g.fines, far), far_carrying = ratio(g.carrying, far);
+    }
+  } else if (!std::isnan(g.inflow_liquid[up * D + a])) {
+    far_liquid = g.inflow_liquid[up * D + a];
+    far_ratio = g.inflow_fines[up * D + a] / far_liquid;
+    far_carrying = g.inflow_carrying[up * D + a] / far_liquid;
+  }
+  const double value = Transport<D>::limited(g.liquid[up] / g.pore[up], g.liquid[down] / g.pore[down], far_liquid);
+  liquid = t.scale(up, out) * vol * value;
+  if (g.fines) {
+    fines = liquid * Transport<D>::limited(ratio(g.fines, up), ratio(g.fines, down), far_ratio);
+    carrying = liquid * Transport<D>::limited(ratio(g.carrying, up), ratio(g.carrying, down), far_carrying);
+  }
+}
+
+template <int D>
+void exchange_from_both_nodes(const Transport<D>& t, std::size_t nn, const double* out, std::vector<double> (&r)[6]) {
+  const TransportGrid& g = t.g;
+  for (std::size_t n = 0; n < nn; ++n) {
+    const auto I = static_cast<std::int64_t>(n);
+    const auto c = t.ijk(I);
+    double dl = 0, df = 0, dc = 0, liquid, fines, carrying;
+    for (int a = 0; a < D; ++a) {
+      if (c[a] < g.nodes[a] - 1) {
+        face_from_both_nodes(t, I, a, c, out, liquid, fines, carrying);
+        dl -= liquid, df -= fines, dc -= carrying;
+      }
+      if (c[a] > 0) {
+        auto below = c;
+        --below[a];
+        face_from_both_nodes(t, I - t.stride(a), a, below, out, liquid, fines, carrying);
+        dl += liquid, df += fines, dc += carrying;
+      }
+    }
+    const double free = t.free_surface_volume(I, c);
+    r[3][n] = r[4][n] = r[5][n] = 0;
+    if (free > 0) {
+      const double share = t.scale(I, out) * free / g.pore[I];
+      r[3][n] = share * g.liquid[I];
+      r[4][n] = g.fines ? share * g.fines[I] : 0.0;
+      r[5][n] = g.fines ? share * g.carrying[I] : 0.0;
+      dl -= r[3][n], df -= r[4][n], dc -= r[5][n];
+    }
+    r[0][n] = dl, r[1][n] = df, r[2][n] = dc;
+  }
+}
+
+// A small grid with dry nodes (free surfaces), inlets on a third of the
+// boundary faces, Darcy fluxes large enough that nodes send less than all
+// they hold, with and without fines; the shares, flows and exchange run in
+// three chunks, as threads would.
+template <int D>
+void expect_the_exchange_of_the_per_face_form(unsigned seed, bool with_fines) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> u(-1, 1), pos(0.1, 2);
+  std::uniform_int_distribution<int> pick(0, 9);
+  const std::array<int, 3> grid_nodes{7, 6, D == 3 ? 5 : 1};
+  const std::size_t nn = static_cast<std::size_t>(grid_nodes[0]) * grid_nodes[1] * grid_nodes[2];
+  std::vector<double> pore(nn), liquid(nn), fines(nn), carrying(nn), darcy(nn * D), face(nn * D, 0.0);
+  std::vector<double> in_liquid(nn * D, std::numeric_limits<double>::quiet_NaN()), in_fines = in_liquid,
+                                                                                   in_carrying = in_liquid;
+  for (std::size_t I = 0; I < nn; ++I) {
+    const int k = pick(gen);
+    pore[I] = k < 2 ? 0.0 : pos(gen);
+    liquid[I] = k < 2 ? 0.0 : pos(gen) * pore[I];
+    fines[I] = 0.15 * liquid[I] * pos(gen);
+    carrying[I] = std::min(liquid[I], 2 * fines[I]);
+    for (int a = 0; a < D; ++a) darcy[I * D + a] = 5 * u(gen);
+    for (int a = 0; a < D; ++a)
+      if (pick(gen) < 3) in_liquid[I * D + a] = pos(gen), in_fines[I * D + a] = 0.1 * pos(gen), in_carrying[I * D + a] = 0.2;
+  }
+  const TransportGrid g{grid_nodes, {0.1, 0.12, 0.09}, 2.0, pore.data(), liquid.data(),
+                        with_fines ? fines.data() : nullptr, with_fines ? carrying.data() : nullptr, darcy.data(),
+                        face.data(), in_liquid.data(), in_fines.data(), in_carrying.data()};
+  const Transport<D> t{g};
+  std::vector<double> out(nn);
+  t.faces(0, nn);
+  t.outflow(0, nn, out.data());
+  std::vector<double> want[6], got[6];
+  for (auto& r : want) r.assign(nn, -7.0);
+  for (auto& r : got) r.assign(nn, -7.0);
+  exchange_from_both_nodes(t, nn, out.data(), want);
+  std::vector<double> per_pore(nn), fines_ratio(nn), carrying_ratio(nn), send(nn), flow(nn * D * 3, 0.0);
+  const NodeShares shares{per_pore.data(), fines_ratio.data(), carrying_ratio.data(), send.data(), flow.data()};
+  const auto chunk = [&](int c) { return nn * static_cast<std::size_t>(c) / 3; };
+  for (int c = 0; c < 3; ++c) t.shares(chunk(c), chunk(c + 1), out.data(), shares);
+  for (int c = 0; c < 3; ++c) t.flows(chunk(c), chunk(c + 1), shares);
+  for (int c = 0; c < 3; ++c)
+    t.exchange(chunk(c), chunk(c + 1), shares, got[0].data(), got[1].data(), got[2].data(), got[3].data(),
+               got[4].data(), got[5].data());
+  const char* what[6] = {"liquid", "fines", "carrying liquid", "free liquid", "free fines", "free carrying"};
+  for (int k = 0; k < 6; ++k) EXPECT_TRUE(same_bits(want[k], got[k])) << what[k] << " in " << D << "D, seed " << seed;
+  std::size_t moving = 0, sending_less = 0;
+  for (std::size_t I = 0; I < nn; ++I) moving += want[0][I] != 0, sending_less += pore[I] > 0 && send[I] < 1;
+  EXPECT_GT(moving, nn / 2) << "most nodes must exchange liquid";
+  EXPECT_GT(sending_less, 0u) << "some nodes must send less than they could";
+}
+
+TEST(VectorKernels, TransportExchangeIsThePerFaceFormBitForBit) {
+  for (unsigned seed = 1; seed <= 5; ++seed)
+    for (const bool with_fines : {true, false}) {
+      expect_the_exchange_of_the_per_face_form<2>(seed, with_fines);
+      expect_the_exchange_of_the_per_face_form<3>(seed + 100, with_fines);
+    }
 }
 
 TEST(VectorKernels, EachIsItsScalarFormBitForBitIn2D) { expect_each_kernel_is_its_scalar_form<2>(); }

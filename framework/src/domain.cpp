@@ -148,8 +148,8 @@ void Domain::update_velocity_gradient(double dt) {
   const auto& f = points.core();
   double* L = points.data(f.velocity_gradient);
   exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
-    exec.vector_kernel(dim(), [&]<int D, int Lanes>() {
-      velocity_gradient_kernel<D, false, Lanes>(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(),
+    exec.vector_kernel(dim(), [&]<int D, int LaneCount>() {
+      velocity_gradient_kernel<D, false, LaneCount>(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(),
                                                 nodes.velocity.data(), L, nullptr, nullptr);
     });
   });

@@ -4,8 +4,8 @@
 // A kernel written on Lanes<L> (lanes.hpp) is instantiated for both lane
 // counts and both dimensions; run_vector_kernel calls the one chosen,
 // kernel.template operator()<D, L>(): L = 4 on AVX2, 2 otherwise. Its body
-// must call the kernel directly (no function pointer), so that the AVX2
-// copy is compiled where it is inlined. The AVX2 copy is compiled
+// must call the kernel directly (no function pointer), and the kernel be
+// always inlined, so that the AVX2 copy is compiled where it is inlined. The AVX2 copy is compiled
 // inside a function built for AVX2 (without FMA), so one binary runs on any
 // x86-64 machine and rounds the same on every one of them.
 #include <string>
@@ -15,7 +15,7 @@ namespace suffuse::detail {
 enum class KernelIsa { portable, avx2 };
 
 // AVX2 if the processor has it; the environment variable SUFFUSE_KERNELS
-// (auto, portable or avx2) overrides, to compare the two. Throws Error on
+// (auto, the same as empty; portable; avx2) overrides, to compare the two. Throws Error on
 // another value, or on avx2 where the processor lacks it.
 KernelIsa kernel_isa_for_this_machine();
 std::string kernel_isa_name(KernelIsa isa);

@@ -3,8 +3,10 @@
 // node's block. Kernels take L as a template parameter: 2 on the portable
 // x86-64 baseline (SSE2), 4 where they are built for AVX2 (kernel_isa.hpp).
 // Each lane is rounded exactly as the scalar operation it replaces (no fused
-// multiply-add: the kernels are never built with FMA), so results do not
-// depend on the instruction set.
+// multiply-add: the build contracts none, -ffp-contract=off), so results do
+// not depend on the instruction set. The kernels and these helpers are
+// always inlined: an AVX2 copy exists only where it is inlined into the
+// function built for AVX2 (clang's flatten inlines one level only).
 #include <cstddef>
 #include <cstring>
 #include <utility>
@@ -32,23 +34,23 @@ using Lanes = typename LaneType<L>::type;
 // can live in registers (a vector load of freshly stored scalars would stall
 // on store forwarding).
 template <int L, std::size_t... I>
-inline Lanes<L> gather_lanes(const double* a, std::index_sequence<I...>) {
+[[gnu::always_inline]] inline Lanes<L> gather_lanes(const double* a, std::index_sequence<I...>) {
   return Lanes<L>{a[I]...};
 }
 template <int L>
-inline Lanes<L> lanes_of(const double* a) {
+[[gnu::always_inline]] inline Lanes<L> lanes_of(const double* a) {
   return gather_lanes<L>(a, std::make_index_sequence<L>());
 }
 
 template <int L>
-inline Lanes<L> load_lanes(const double* p) {
+[[gnu::always_inline]] inline Lanes<L> load_lanes(const double* p) {
   Lanes<L> v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
 
 template <int L>
-inline void add_lanes(double* p, Lanes<L> v) {
+[[gnu::always_inline]] inline void add_lanes(double* p, Lanes<L> v) {
   const Lanes<L> sum = load_lanes<L>(p) + v;
   std::memcpy(p, &sum, sizeof sum);
 }
@@ -64,10 +66,10 @@ template <int W, int L>
 struct WeightedValues {
   static constexpr int lanes = block_lanes<W, L>, vectors = W / lanes;
   Lanes<lanes> a[vectors];
-  explicit WeightedValues(const double* values) {
+  [[gnu::always_inline]] explicit WeightedValues(const double* values) {
     for (int v = 0; v < vectors; ++v) a[v] = lanes_of<lanes>(values + v * lanes);
   }
-  void add_to(double* block, double N) const {
+  [[gnu::always_inline]] void add_to(double* block, double N) const {
     for (int v = 0; v < vectors; ++v) add_lanes<lanes>(block + v * lanes, a[v] * N);
   }
 };
@@ -79,11 +81,16 @@ struct WeightedSums {
   static constexpr int lanes = W % L == 0 ? L : W >= 2 ? 2 : 1, vectors = W / lanes, head = vectors * lanes;
   Lanes<lanes> v[vectors] = {};
   double tail[W - head + 1] = {};  // one more than needed: never empty
-  void add(const double* x, double s) {
+  [[gnu::always_inline]] void add(const double* x, double s) {
     for (int k = 0; k < vectors; ++k) v[k] += load_lanes<lanes>(x + k * lanes) * s;
     for (int c = head; c < W; ++c) tail[c - head] += x[c] * s;
   }
-  double operator[](int c) const { return c < head ? v[c / lanes][c % lanes] : tail[c - head]; }
+  double operator[](int c) const {
+    if constexpr (lanes == 1)
+      return v[c];
+    else
+      return c < head ? v[c / lanes][c % lanes] : tail[c - head];
+  }
 };
 
 }  // namespace suffuse::detail

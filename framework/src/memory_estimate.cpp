@@ -24,14 +24,14 @@ MemoryEstimate estimate_memory(const Scene& scene) {
   // Per point: the fields (about 60 values in a saturated run with fines,
   // 35 dry) and the shape functions of the step (up to 3^dim nodes, with an
   // id, a weight and dim gradients each). Per node: the nodal arrays of both
-  // phases and the transport (about 14 dim + 20 values), and the scatter's
+  // phases and the transport (about 17 dim + 26 values), and the scatter's
   // chunk sums over the largest scatter's arrays (the saturated one, 4 + 4
   // dim values): a chunk spans about a layer of cells, its buffer two to
   // three layers of nodes, so 1.7 to 3.9 times over when the points follow
   // the grid's order, as bodies are made (counted for 2D and 3D boxes, linear
   // and GIMP). Measured on the bench columns within 30%.
   const double per_point = (scene.saturated() ? 60.0 : 35.0) + std::pow(3.0, D) * (2.0 + D);
-  const double per_node = 14.0 * D + 20.0 + 4.0 * (4.0 + 4.0 * D);
+  const double per_node = 17.0 * D + 26.0 + 4.0 * (4.0 + 4.0 * D);
   e.bytes = 8.0 * (e.points * per_point + e.nodes * per_node);
   return e;
 }

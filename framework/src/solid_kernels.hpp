@@ -55,7 +55,7 @@ inline double undamped(double damped_force, double velocity, double damping) {
 inline constexpr int dry_block = 8, dry_force = 4;
 
 template <int D, int L = 2>
-void p2g_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w, const double* dw,
+[[gnu::always_inline]] inline void p2g_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w, const double* dw,
                 const double* mass, const double* volume, const double* vel, const double* stress,
                 const double* g, double scale, double* __restrict block) {
   constexpr int W = dry_block, vectors = W / L;
@@ -135,7 +135,7 @@ void acceleration_kernel(std::size_t begin, std::size_t end, double dt, const do
 // displacements from the nodal velocity. WithLiquid: the pore liquid's FLIP
 // velocity too, in the same pass over the points' nodes (the two-phase step).
 template <int D, bool WithLiquid = false, int L = 2>
-void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids, const double* w,
                 const double* node_vel, const double* node_acc, double* x, double* u, double* vel,
                 const double* node_liquid_acc = nullptr, double* liquid_vel = nullptr) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -157,7 +157,7 @@ void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const No
 }
 
 template <int D, int L = 2>
-void remap_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void remap_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                   const double* mass, double scale, const double* vel, double* node_mom) {
   for (std::size_t p = begin; p < end; ++p) {
     const double m = scale * mass[p];
@@ -183,7 +183,7 @@ void velocity_from_momentum(std::size_t begin, std::size_t end, const double* ma
 // volume *= det(I + L dt) in the same pass (strain_volume_kernel does it
 // after a change of L).
 template <int D, bool Integrate = true, int L = 2>
-void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids,
+[[gnu::always_inline]] inline void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids,
                               const double* dw, const double* node_vel, double* L_field, double* strain,
                               double* volume) {
   for (std::size_t p = begin; p < end; ++p) {

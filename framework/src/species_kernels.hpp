@@ -93,7 +93,7 @@ inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const S
 inline constexpr int species_block = 4;
 
 template <int L = 2>
-void p2g_species(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void p2g_species(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                  const double* volume, const double* n, const double* liquid, const double* fines,
                  const double* carrying, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -355,7 +355,7 @@ inline void share_rates(std::size_t begin, std::size_t end, int species, const d
 
 // Up to three species in one pass over the points' nodes (null: absent).
 template <int L = 2>
-void g2p_share(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void g2p_share(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                const double* volume, const double* n, const double* block, double* const (&amount)[3]) {
   constexpr int vectors = share_per_pore / L;
   const int count = amount[2] ? 3 : amount[1] ? 2 : 1;

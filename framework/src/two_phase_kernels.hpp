@@ -40,7 +40,7 @@ template <int D>
 inline constexpr int saturated_block = 4 + 4 * D;
 
 template <int D, int L = 2>
-void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                    const double* dw, const SaturatedPoints& pt, const double* g, double scale,
                    double* __restrict block) {
   constexpr int W = saturated_block<D>, inertial = 4 + 2 * D;  // the sums without a gradient term
@@ -57,9 +57,13 @@ void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* id
     const double Vp = V * pr, Vp_liquid = n > 0 ? Vp : 0.0, mixture = ms + ml;
     // Inertia (masses, momenta) carries the mass scaling; forces do not.
     // a: the coefficients of N; B[j]: those of dN/dx_j, zero but in the
-    // forces (the mixture's V (p I - sigma'), then the liquid's V p I). An
-    // added zero product leaves a sum as it was, so the lanes round as the
-    // scalar sums did.
+    // forces (the mixture's V (p I - sigma'), then the liquid's V p I). In
+    // 3D on four lanes one vector holds two momenta and two forces; its
+    // momenta get zero products, which leave a sum as it was (a nodal sum
+    // starts at +0 and never becomes -0), so the lanes round as the scalar
+    // sums did. That needs finite gradients, as every shape function of a
+    // finite point gives (a non-finite one would make those momenta NaN
+    // where the forces are NaN already).
     double a[W], B[D][W] = {};
     a[0] = scale * ms, a[1] = scale * ml, a[2] = scale * rho_l_V, a[3] = drag;
     for (int i = 0; i < D; ++i) {
@@ -110,7 +114,7 @@ void unpack_saturated_block(std::size_t begin, std::size_t end, const double* bl
 // The MUSL remap of both phases' momenta in one pass, into one block of 2D
 // values per node: the solid's momentum, then the liquid's.
 template <int D, int L = 2>
-void remap_two_phase(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void remap_two_phase(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                      const double* mass, const double* liquid_mass, double scale, const double* vel,
                      const double* liquid_vel, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -192,7 +196,7 @@ std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt
 // Pressure smoothing, scatter half: volume-weighted nodal pressure rates,
 // into one block of two values per node (sum N V rate, sum N V).
 template <int L = 2>
-void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
                        const double* volume, const double* n, const double* rate, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // dry points neither give nor take pore pressure
