@@ -31,6 +31,30 @@ struct UpwardSeepage {
   double pressure(double y) const { return gamma_w() * (L + dh - y * (1 + gradient())); }
 };
 
+// Sets SUFFUSE_KERNELS (the vector kernels' instruction set) for the
+// simulations built in its lifetime, then restores what the user had set.
+class KernelChoice {
+ public:
+  explicit KernelChoice(const char* isa) {
+    const char* before = std::getenv("SUFFUSE_KERNELS");
+    had_ = before != nullptr;
+    if (had_) before_ = before;
+    setenv("SUFFUSE_KERNELS", isa, 1);
+  }
+  ~KernelChoice() {
+    if (had_)
+      setenv("SUFFUSE_KERNELS", before_.c_str(), 1);
+    else
+      unsetenv("SUFFUSE_KERNELS");
+  }
+  KernelChoice(const KernelChoice&) = delete;
+  KernelChoice& operator=(const KernelChoice&) = delete;
+
+ private:
+  bool had_ = false;
+  std::string before_;
+};
+
 // Terzaghi's series, z measured down from the drained top (terms below
 // e^-50 dropped).
 inline double terzaghi_pressure(double u0, double z, double H, double Tv) {

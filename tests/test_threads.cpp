@@ -20,33 +20,10 @@
 
 namespace {
 
+using suffuse::test::KernelChoice;
 using suffuse::test::read_json;
 using suffuse::test::scene_from;
 using suffuse::test::source_dir;
-
-// Sets SUFFUSE_KERNELS for the simulations built in its lifetime, then
-// restores what the user had set.
-class KernelChoice {
- public:
-  explicit KernelChoice(const char* isa) {
-    const char* before = std::getenv("SUFFUSE_KERNELS");
-    had_ = before != nullptr;
-    if (had_) before_ = before;
-    setenv("SUFFUSE_KERNELS", isa, 1);
-  }
-  ~KernelChoice() {
-    if (had_)
-      setenv("SUFFUSE_KERNELS", before_.c_str(), 1);
-    else
-      unsetenv("SUFFUSE_KERNELS");
-  }
-  KernelChoice(const KernelChoice&) = delete;
-  KernelChoice& operator=(const KernelChoice&) = delete;
-
- private:
-  bool had_ = false;
-  std::string before_;
-};
 
 // Unless the user chose the portable kernels (as under valgrind).
 bool machine_has_avx2() {

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "kernel_isa.hpp"
+#include "test_support.hpp"
 #include "solid_kernels.hpp"
 #include "species_kernels.hpp"
 #include "two_phase_kernels.hpp"
@@ -42,14 +43,9 @@ std::string name(Variant v) {
 std::vector<Variant> variants() {
   std::vector<Variant> all{Variant::two_lanes, Variant::four_lanes_baseline};
   const char* chosen = std::getenv("SUFFUSE_KERNELS");
-  const std::string before = chosen ? chosen : "";
-  if (before == "portable") return all;
-  setenv("SUFFUSE_KERNELS", "auto", 1);
+  if (chosen && std::string(chosen) == "portable") return all;
+  const suffuse::test::KernelChoice automatic("auto");
   if (kernel_isa_for_this_machine() == KernelIsa::avx2) all.push_back(Variant::avx2);
-  if (chosen)
-    setenv("SUFFUSE_KERNELS", before.c_str(), 1);
-  else
-    unsetenv("SUFFUSE_KERNELS");
   return all;
 }
 

@@ -146,11 +146,11 @@ void Domain::update_kinematics(double dt) {
 
 void Domain::update_velocity_gradient(double dt) {
   const auto& f = points.core();
-  double* L = points.data(f.velocity_gradient);
+  double* gradient = points.data(f.velocity_gradient);
   exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
-    exec.vector_kernel(dim(), [&]<int D, int LaneCount>() {
-      velocity_gradient_kernel<D, false, LaneCount>(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(),
-                                                nodes.velocity.data(), L, nullptr, nullptr);
+    exec.vector_kernel(dim(), [&]<int D, int L>() {
+      velocity_gradient_kernel<D, false, L>(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(),
+                                            nodes.velocity.data(), gradient, nullptr, nullptr);
     });
   });
   if (!average_volumetric_rate_) return;
@@ -161,11 +161,11 @@ void Domain::update_velocity_gradient(double dt) {
   targets.add(cell_rate_);
   auto sum = dim() == 2 ? &cell_volumetric_rate_kernel<2> : &cell_volumetric_rate_kernel<3>;
   exec.scatter(points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    sum(b, e, point_cell_.data(), L, points.data(f.volume), out[0], out[1]);
+    sum(b, e, point_cell_.data(), gradient, points.data(f.volume), out[0], out[1]);
   });
   auto replace = dim() == 2 ? &replace_volumetric_rate_kernel<2> : &replace_volumetric_rate_kernel<3>;
   exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
-    replace(b, e, point_cell_.data(), cell_volume_.data(), cell_rate_.data(), L);
+    replace(b, e, point_cell_.data(), cell_volume_.data(), cell_rate_.data(), gradient);
   });
 }
 

@@ -1,13 +1,14 @@
 #pragma once
 // The instruction set the vector kernels run on, chosen when a run starts:
-// AVX2 where the processor has it, else the portable x86-64 baseline (SSE2).
-// A kernel written on Lanes<L> (lanes.hpp) is instantiated for both lane
-// counts and both dimensions; run_vector_kernel calls the one chosen,
-// kernel.template operator()<D, L>(): L = 4 on AVX2, 2 otherwise. Its body
-// must call the kernel directly (no function pointer), and the kernel be
-// always inlined, so that the AVX2 copy is compiled where it is inlined. The AVX2 copy is compiled
-// inside a function built for AVX2 (without FMA), so one binary runs on any
-// x86-64 machine and rounds the same on every one of them.
+// AVX2 where the processor has it, else the portable kernels (SSE2, the
+// x86-64 baseline). A kernel written on Lanes<L> (lanes.hpp) is
+// instantiated for both lane counts and both dimensions; run_vector_kernel
+// calls the one chosen, kernel.template operator()<D, L>(): L = 4 on AVX2,
+// 2 otherwise. The lambda must call the kernel directly (no function
+// pointer) and the kernel be always inlined: the AVX2 copy exists only where
+// it is inlined into run_avx2, built for AVX2. The build fuses no
+// multiply-add (-ffp-contract=off), so one binary runs on any x86-64 machine
+// and rounds the same on every one of them.
 #include <string>
 
 namespace suffuse::detail {
@@ -15,8 +16,8 @@ namespace suffuse::detail {
 enum class KernelIsa { portable, avx2 };
 
 // AVX2 if the processor has it; the environment variable SUFFUSE_KERNELS
-// (auto, the same as empty; portable; avx2) overrides, to compare the two. Throws Error on
-// another value, or on avx2 where the processor lacks it.
+// (auto, the same as empty; portable; avx2) overrides, to compare the two.
+// Throws Error on another value, or on avx2 where the processor lacks it.
 KernelIsa kernel_isa_for_this_machine();
 std::string kernel_isa_name(KernelIsa isa);
 

@@ -151,8 +151,9 @@ class Simulation {
   double dt() const { return clock_.dt(); }
   std::size_t steps() const { return clock_.steps(); }
   int threads() const;
-  // The instruction set of the vector kernels: "avx2" or "portable (sse2)";
-  // chosen from the processor, or from SUFFUSE_KERNELS (docs/performance.md).
+  // The instruction set of the vector kernels: "avx2" or "portable (sse2)"
+  // ("portable" off x86-64); chosen from the processor, or from
+  // SUFFUSE_KERNELS (docs/quickstart.md).
   std::string kernels() const;
   const Scene& scene() const { return scene_; }
   const PointSet& points() const;
