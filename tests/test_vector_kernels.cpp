@@ -21,6 +21,7 @@
 #include "test_support.hpp"
 #include "solid_kernels.hpp"
 #include "species_kernels.hpp"
+#include "suffuse/liquid.hpp"
 #include "two_phase_kernels.hpp"
 
 namespace {
@@ -454,5 +455,163 @@ TEST(VectorKernels, TransportExchangeIsThePerFaceFormBitForBit) {
 
 TEST(VectorKernels, EachIsItsScalarFormBitForBitIn2D) { expect_each_kernel_is_its_scalar_form<2>(); }
 TEST(VectorKernels, EachIsItsScalarFormBitForBitIn3D) { expect_each_kernel_is_its_scalar_form<3>(); }
+
+// The erosion's per-point passes as they were before they ran on lanes
+// (species_kernels.hpp and SpeciesTransport::erode had these forms).
+namespace before {
+double suspended_concentration(double fines, double liquid, double rho_s, double rho_w) {
+  const double v_fines = fines / rho_s, v_water = std::max(0.0, liquid - fines) / rho_w;
+  return v_fines > 0 ? v_fines / (v_fines + v_water) : 0.0;
+}
+std::pair<double, double> carrier_state(double fines, double carrying, double liquid, double rho_s, double rho_w) {
+  const double v_fines = fines / rho_s;
+  const double v_carrying = v_fines + std::max(0.0, carrying - fines) / rho_w;
+  const double v_liquid = v_fines + std::max(0.0, liquid - fines) / rho_w;
+  if (carrying >= liquid) return {1.0, suspended_concentration(fines, liquid, rho_s, rho_w)};
+  return {v_liquid > 0 ? std::min(1.0, v_carrying / v_liquid) : 0.0,
+          suspended_concentration(fines, carrying, rho_s, rho_w)};
+}
+void apply_erosion(std::size_t begin, std::size_t end, double dt, const SpeciesPoints& pt,
+                   const double* ultimate_fines, double* rate) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const double rho_s = pt.grain_density[p], V = pt.volume[p];
+    const double ms = pt.solid_mass[p], fines = pt.skeleton_fines[p], f_inf = ultimate_fines[p];
+    double moved = rho_s * rate[p] * V * dt;
+    if (moved > 0)
+      moved = std::min(moved, std::max(0.0, (fines - f_inf * ms) / (1 - f_inf)));
+    else
+      moved = std::max(moved, -pt.suspended_fines[p]);
+    pt.solid_mass[p] = ms - moved;
+    pt.skeleton_fines[p] = fines - moved;
+    pt.suspended_fines[p] += moved;
+    pt.liquid_mass[p] += moved;
+    if (pt.carrying_liquid) pt.carrying_liquid[p] = std::max(0.0, pt.carrying_liquid[p] + moved);
+    pt.eroded_mass[p] += moved;
+    pt.porosity[p] += moved / (rho_s * V);
+    rate[p] = moved / (rho_s * V * dt);
+  }
+}
+}  // namespace before
+
+// The species of random points, with the cases the passes select between:
+// all liquid carrying or only part of it, more suspended fines than liquid,
+// no suspended fines, rates that erode, deposit or do nothing, points
+// already below f_c_inf, dry points.
+struct ErosionData {
+  std::vector<double> solid, skeleton, suspended, liquid, eroded, volume, n, rho_s, carrying, q, K, rho_w, f_inf,
+      rate, fc, fer, dn, dfc, dfer, magnitude, gradient, c, share, carrier_c, density, moving;
+  explicit ErosionData(unsigned seed, int dim) {
+    std::mt19937 gen(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    auto fill = [&](std::vector<double>& v, std::size_t size, double lo, double hi) {
+      v.resize(size);
+      for (double& x : v) x = lo + (hi - lo) * u(gen);
+    };
+    fill(solid, points, 1, 2), fill(skeleton, points, 0, 0.5), fill(suspended, points, 0, 0.1);
+    fill(liquid, points, 0.05, 1), fill(eroded, points, 0, 0.1), fill(volume, points, 1e-4, 1e-3);
+    fill(n, points, 0.2, 0.5), fill(rho_s, points, 2500, 2700), fill(carrying, points, 0, 1.2);
+    fill(q, points * dim, -1e-3, 1e-3), fill(K, points, 1e-5, 1e-3), fill(rho_w, points, 990, 1010);
+    fill(f_inf, points, 0, 0.3), fill(rate, points, -2, 2), fill(dn, points, -1e-3, 1e-3);
+    fill(fer, points, 0, 0.1), fill(density, points, 1000, 1100), fill(moving, points, 0, 1);
+    for (std::size_t p = 0; p < points; ++p) {
+      fc.push_back(skeleton[p] / solid[p]);
+      if (p % 5 == 0) carrying[p] = liquid[p];   // all of the liquid carries
+      if (p % 7 == 0) suspended[p] = 0;           // clean water
+      if (p % 13 == 0) suspended[p] = 2 * liquid[p];
+      if (p % 3 == 0) rate[p] = 0;
+      if (p % 17 == 0) n[p] = 0;                  // dry
+    }
+    dfc = dfer = magnitude = gradient = c = share = carrier_c = std::vector<double>(points, -1.0);
+  }
+  SpeciesPoints species() {
+    return {solid.data(), skeleton.data(), suspended.data(), liquid.data(), eroded.data(),
+            volume.data(), n.data(),       rho_s.data(),     carrying.data()};
+  }
+};
+
+bool same_erosion_state(ErosionData& a, ErosionData& b) {
+  const auto fields = [](ErosionData& d) {
+    return std::vector<std::vector<double>*>{
+        &d.solid, &d.skeleton, &d.suspended, &d.liquid, &d.eroded, &d.n,         &d.carrying, &d.rate, &d.fc,
+        &d.fer,   &d.dn,       &d.dfc,       &d.dfer,   &d.magnitude, &d.gradient, &d.c,      &d.share, &d.carrier_c,
+        &d.density, &d.moving};
+  };
+  const auto x = fields(a), y = fields(b);
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (!same_bits(*x[k], *y[k])) return false;
+  return true;
+}
+
+// The erosion's inputs, its update and the pore liquid's density after the
+// transport, on lanes, against the scalar code they replaced. The range
+// leaves a point at each end out and a group of lanes short at its end.
+template <int D>
+void expect_the_erosion_passes_of_their_scalar_form() {
+  const std::size_t begin = 1, end = points - 1;
+  const double dt = 0.05;
+  for (const Variant isa : variants()) {
+    const std::string on = " in " + std::to_string(D) + "D, " + name(isa);
+    ErosionData want(D == 2 ? 41u : 43u, D), got = want;
+    bool mixed_want = false, moved_want = false;
+    {
+      const SpeciesPoints pt = want.species();
+      for (std::size_t p = begin; p < end; ++p) {
+        double q2 = 0;
+        for (int i = 0; i < D; ++i) q2 += want.q[p * D + i] * want.q[p * D + i];
+        want.magnitude[p] = std::sqrt(q2);
+        want.gradient[p] = want.magnitude[p] / want.K[p];
+        want.fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
+        want.c[p] = before::suspended_concentration(pt.suspended_fines[p], pt.liquid_mass[p], pt.grain_density[p],
+                                                    want.rho_w[p]);
+        const auto [share, conc] = before::carrier_state(pt.suspended_fines[p], want.carrying[p], pt.liquid_mass[p],
+                                                         pt.grain_density[p], want.rho_w[p]);
+        want.share[p] = share, want.carrier_c[p] = conc;
+        mixed_want = mixed_want || share < 1;
+      }
+      for (std::size_t p = begin; p < end; ++p)
+        want.dn[p] -= want.n[p], want.dfc[p] = want.fc[p], want.dfer[p] = want.fer[p];
+      before::apply_erosion(begin, end, dt, pt, want.f_inf.data(), want.rate.data());
+      for (std::size_t p = begin; p < end; ++p) moved_want = moved_want || want.rate[p] != 0;
+      for (std::size_t p = begin; p < end; ++p) {
+        want.fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
+        want.fer[p] = pt.eroded_mass[p] / (pt.solid_mass[p] + pt.eroded_mass[p]);
+        want.dn[p] += want.n[p];
+        want.dfc[p] = want.fc[p] - want.dfc[p];
+        want.dfer[p] = want.fer[p] - want.dfer[p];
+      }
+      for (std::size_t p = begin; p < end; ++p) {
+        if (want.n[p] <= 0) continue;
+        const double conc = before::suspended_concentration(want.suspended[p], want.liquid[p], want.rho_s[p],
+                                                            want.rho_w[p]);
+        want.c[p] = conc;
+        want.density[p] = suffuse::suspension_density(conc, want.rho_s[p], want.rho_w[p]);
+        want.moving[p] = want.n[p] * want.volume[p] * want.density[p];
+      }
+    }
+    bool mixed = false, moved = false;
+    const SpeciesPoints pt = got.species();
+    const ErosionInputs in{got.q.data(),  got.K.data(),        got.rho_w.data(), got.magnitude.data(),
+                           got.gradient.data(), got.fc.data(), got.c.data(),     got.share.data(),
+                           got.carrier_c.data()};
+    const ErosionState st{got.fc.data(), got.fer.data(), got.dn.data(), got.dfc.data(), got.dfer.data()};
+    const PoreLiquidPoints liquid{got.volume.data(), got.n.data(),    got.rho_s.data(),   got.rho_w.data(),
+                                  got.suspended.data(), got.liquid.data(), got.c.data(), got.density.data(),
+                                  got.moving.data()};
+    run<D>(isa, [&]<int, int L>() {
+      mixed = erosion_inputs<D, L>(begin, end, pt, in);
+      moved = erode_points<L>(begin, end, dt, pt, got.f_inf.data(), got.rate.data(), st);
+      pore_liquid_density<L>(begin, end, liquid);
+    });
+    EXPECT_TRUE(same_erosion_state(want, got)) << "erosion passes" << on;
+    EXPECT_EQ(mixed, mixed_want) << on;
+    EXPECT_EQ(moved, moved_want) << on;
+    EXPECT_TRUE(mixed && moved) << "the data must hold mixed points and erode";
+  }
+}
+
+TEST(VectorKernels, ErosionPassesAreTheirScalarFormBitForBit) {
+  expect_the_erosion_passes_of_their_scalar_form<2>();
+  expect_the_erosion_passes_of_their_scalar_form<3>();
+}
 
 }  // namespace

@@ -285,7 +285,7 @@ ElementResult run_element_test(const ElementScene& scene, std::size_t index, con
         // A stage watching for a limit (a runaway) ends the case at a
         // collapse as well: the values of the last increment it carried.
         if (!stage.until.empty()) {
-          ElementEvent event{k, increment, {"failure", 0.0}, {}, {}};
+          ElementEvent event{k, increment, {"failure", 0.0}, {}, {}, false, {}};
           for (std::size_t n = 0; n < names.size(); ++n) event.at.emplace_back(names[n], previous[n]);
           for (const ElementInput& in : stage.inputs) event.inputs.push_back(in.field);
           event.failure = true;
@@ -312,7 +312,7 @@ ElementResult run_element_test(const ElementScene& scene, std::size_t index, con
         const double limit = stage.until[l].value, before = previous[c], now = values[c];
         if ((before - limit) * (now - limit) > 0 || before == limit) continue;
         const double t = now == before ? 1.0 : (limit - before) / (now - before);
-        ElementEvent event{k, increment, stage.until[l], {}, {}};
+        ElementEvent event{k, increment, stage.until[l], {}, {}, false, {}};
         for (const ElementInput& in : stage.inputs) event.inputs.push_back(in.field);
         for (std::size_t n = 0; n < names.size(); ++n)
           event.at.emplace_back(names[n], previous[n] + t * (values[n] - previous[n]));

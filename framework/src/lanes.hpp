@@ -7,8 +7,10 @@
 // not depend on the instruction set. The kernels and these helpers are
 // always inlined: an AVX2 copy exists only where it is inlined into the
 // function built for AVX2 (clang's flatten inlines one level only).
+#include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 namespace suffuse::detail {
@@ -92,5 +94,84 @@ struct WeightedSums {
       return c < head ? v[c / lanes][c % lanes] : tail[c - head];
   }
 };
+
+// Per-point operations written once for T = double and T = Lanes<L> (L
+// points at a time), so that a kernel's body serves both its vector loop and
+// its scalar tail, and every lane rounds as the scalar code does: the same
+// operations in the same order (divisions and square roots are correctly
+// rounded in either form), std::max's and std::min's choices, and selects
+// where the scalar code branched (both sides are computed; the other is
+// discarded, whatever it was).
+template <class T>
+inline constexpr int lane_count = sizeof(T) / sizeof(double);
+
+template <class T>
+[[gnu::always_inline]] inline T splat(double v) {
+  return T{} + v;
+}
+template <class T>
+[[gnu::always_inline]] inline T lane_max(T a, T b) {  // std::max(a, b)
+  return a < b ? b : a;
+}
+template <class T>
+[[gnu::always_inline]] inline T lane_min(T a, T b) {  // std::min(a, b)
+  return b < a ? b : a;
+}
+// mask ? a : b lane by lane (mask: a comparison of two T).
+template <class M, class T>
+[[gnu::always_inline]] inline T pick(M mask, T a, T b) {
+  return mask ? a : b;
+}
+template <class M>
+[[gnu::always_inline]] inline bool any_lane(M mask) {
+  if constexpr (std::is_same_v<M, bool>) {
+    return mask;
+  } else {
+    for (std::size_t l = 0; l < sizeof(M) / sizeof(mask[0]); ++l)
+      if (mask[l]) return true;
+    return false;
+  }
+}
+// The build sets -fno-math-errno, so this is one vector instruction.
+template <class T>
+[[gnu::always_inline]] inline T lane_sqrt(T x) {
+  if constexpr (std::is_same_v<T, double>) {
+    return std::sqrt(x);
+  } else {
+    for (int l = 0; l < lane_count<T>; ++l) x[l] = std::sqrt(x[l]);
+    return x;
+  }
+}
+// The values of lane_count<T> consecutive points at p (stride 1), or of one
+// component of their vectors (stride S: p[0], p[S], ...).
+template <class T, int S = 1>
+[[gnu::always_inline]] inline T load_at(const double* p) {
+  if constexpr (std::is_same_v<T, double>) {
+    return *p;
+  } else if constexpr (S == 1) {
+    return load_lanes<lane_count<T>>(p);
+  } else {
+    T v;
+    for (int l = 0; l < lane_count<T>; ++l) v[l] = p[l * S];
+    return v;
+  }
+}
+template <class T>
+[[gnu::always_inline]] inline void store_at(double* p, T v) {
+  if constexpr (std::is_same_v<T, double>)
+    *p = v;
+  else
+    std::memcpy(p, &v, sizeof v);
+}
+
+// Calls body.template operator()<T>(p) for p in [begin, end): T = Lanes<L>
+// on whole groups of L points, then T = double on the rest.
+template <int L, class Body>
+[[gnu::always_inline]] inline void for_points_in_lanes(std::size_t begin, std::size_t end, const Body& body) {
+  std::size_t p = begin;
+  if constexpr (L > 1)
+    for (; p + L <= end; p += L) body.template operator()<Lanes<L>>(p);
+  for (; p < end; ++p) body.template operator()<double>(p);
+}
 
 }  // namespace suffuse::detail

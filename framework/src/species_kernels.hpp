@@ -21,9 +21,11 @@ namespace suffuse::detail {
 // Volume fraction of fines in the liquid a point carries: fines volume over
 // fines plus water volume. In [0, 1] whatever the amounts, so a point where
 // the transport piles liquid up (below a free surface) keeps a physical c.
-inline double suspended_concentration(double fines, double liquid, double rho_s, double rho_w) {
-  const double v_fines = fines / rho_s, v_water = std::max(0.0, liquid - fines) / rho_w;
-  return v_fines > 0 ? v_fines / (v_fines + v_water) : 0.0;
+// For one point (T = double) or several (T = Lanes<L>, lanes.hpp).
+template <class T>
+[[gnu::always_inline]] inline T suspended_concentration(T fines, T liquid, T rho_s, T rho_w) {
+  const T v_fines = fines / rho_s, v_water = lane_max(T{}, liquid - fines) / rho_w;
+  return pick(v_fines > T{}, v_fines / (v_fines + v_water), T{});
 }
 
 // Per-point state of the species, spans of the point count.
@@ -47,43 +49,119 @@ struct SpeciesPoints {
 // `share`, the carrying part's fraction of the pore liquid, and
 // `concentration`, the carrying part's own c. Where all the liquid carries
 // (share 1) the concentration is suspended_concentration's, bit for bit.
+template <class T>
 struct CarrierState {
-  double share, concentration;
+  T share, concentration;
 };
-inline CarrierState carrier_state(double fines, double carrying, double liquid, double rho_s, double rho_w) {
-  const double v_fines = fines / rho_s;
-  const double v_carrying = v_fines + std::max(0.0, carrying - fines) / rho_w;
-  const double v_liquid = v_fines + std::max(0.0, liquid - fines) / rho_w;
-  if (carrying >= liquid) return {1.0, suspended_concentration(fines, liquid, rho_s, rho_w)};
-  return {v_liquid > 0 ? std::min(1.0, v_carrying / v_liquid) : 0.0,
-          suspended_concentration(fines, carrying, rho_s, rho_w)};
+template <class T>
+[[gnu::always_inline]] inline CarrierState<T> carrier_state(T fines, T carrying, T liquid, T rho_s, T rho_w) {
+  const T v_fines = fines / rho_s;
+  const T v_carrying = v_fines + lane_max(T{}, carrying - fines) / rho_w;
+  const T v_liquid = v_fines + lane_max(T{}, liquid - fines) / rho_w;
+  const auto all_carries = carrying >= liquid;
+  const T part = pick(v_liquid > T{}, lane_min(splat<T>(1.0), v_carrying / v_liquid), T{});
+  return {pick(all_carries, splat<T>(1.0), part),
+          suspended_concentration(fines, pick(all_carries, liquid, carrying), rho_s, rho_w)};
 }
 
-// Applies the rates n_e [1/s] of a law to points [begin, end): moves
-// rho_s n_e V dt from skeleton to liquid, limited so that f_c >= f_c_inf and
-// no point deposits more fines than it carries. Overwrites `rate` with the
-// rate actually applied.
+// Applies the rates n_e [1/s] of a law to the points at p (lane_count<T> of
+// them): moves rho_s n_e V dt from skeleton to liquid, limited so that
+// f_c >= f_c_inf and no point deposits more fines than it carries.
+// Overwrites `rate` with the rate actually applied.
+template <class T>
+[[gnu::always_inline]] inline void apply_erosion_at(std::size_t p, double dt, const SpeciesPoints& pt,
+                                                    const double* ultimate_fines, double* rate) {
+  const T rho_s = load_at<T>(pt.grain_density + p), V = load_at<T>(pt.volume + p);
+  const T ms = load_at<T>(pt.solid_mass + p), fines = load_at<T>(pt.skeleton_fines + p);
+  const T f_inf = load_at<T>(ultimate_fines + p), suspended = load_at<T>(pt.suspended_fines + p);
+  const T wanted = rho_s * load_at<T>(rate + p) * V * dt;
+  // Eroding: (fines - moved) / (ms - moved) >= f_inf. Depositing: at most
+  // the suspended fines.
+  const T erodible = lane_max(T{}, (fines - f_inf * ms) / (splat<T>(1.0) - f_inf));
+  const T moved = pick(wanted > T{}, lane_min(wanted, erodible), lane_max(wanted, -suspended));
+  store_at(pt.solid_mass + p, ms - moved);
+  store_at(pt.skeleton_fines + p, fines - moved);
+  store_at(pt.suspended_fines + p, suspended + moved);
+  store_at(pt.liquid_mass + p, load_at<T>(pt.liquid_mass + p) + moved);
+  if (pt.carrying_liquid)
+    store_at(pt.carrying_liquid + p, lane_max(T{}, load_at<T>(pt.carrying_liquid + p) + moved));
+  store_at(pt.eroded_mass + p, load_at<T>(pt.eroded_mass + p) + moved);
+  store_at(pt.porosity + p, load_at<T>(pt.porosity + p) + moved / (rho_s * V));
+  store_at(rate + p, moved / (rho_s * V * dt));
+}
+
 inline void apply_erosion(std::size_t begin, std::size_t end, double dt, const SpeciesPoints& pt,
                           const double* ultimate_fines, double* rate) {
-  for (std::size_t p = begin; p < end; ++p) {
-    const double rho_s = pt.grain_density[p], V = pt.volume[p];
-    const double ms = pt.solid_mass[p], fines = pt.skeleton_fines[p], f_inf = ultimate_fines[p];
-    double moved = rho_s * rate[p] * V * dt;
-    if (moved > 0) {
-      // (fines - moved) / (ms - moved) >= f_inf
-      moved = std::min(moved, std::max(0.0, (fines - f_inf * ms) / (1 - f_inf)));
-    } else {
-      moved = std::max(moved, -pt.suspended_fines[p]);
+  for (std::size_t p = begin; p < end; ++p) apply_erosion_at<double>(p, dt, pt, ultimate_fines, rate);
+}
+
+// What the erosion law reads at the points (ErosionBatch), beside the
+// fields it reads directly.
+struct ErosionInputs {
+  const double *darcy_flux, *conductivity, *water_density;
+  double *flux_magnitude, *hydraulic_gradient, *fines_content, *concentration;
+  // The liquid that carries the fines: its share of the pore liquid (by
+  // volume) and its own c (carrier_state).
+  double *carrier_share, *carrier_concentration;
+};
+
+// Fills ErosionInputs at points [begin, end). Returns whether any of them
+// holds clean water beside the suspension (a carrier share below 1).
+template <int D, int L>
+[[gnu::always_inline]] inline bool erosion_inputs(std::size_t begin, std::size_t end, const SpeciesPoints& pt,
+                                                  const ErosionInputs& in) {
+  bool mixed = false;
+  for_points_in_lanes<L>(begin, end, [&]<class T>(std::size_t p) {
+    T q2{};
+    for (int i = 0; i < D; ++i) {
+      const T q = load_at<T, D>(in.darcy_flux + p * D + i);
+      q2 += q * q;
     }
-    pt.solid_mass[p] = ms - moved;
-    pt.skeleton_fines[p] = fines - moved;
-    pt.suspended_fines[p] += moved;
-    pt.liquid_mass[p] += moved;
-    if (pt.carrying_liquid) pt.carrying_liquid[p] = std::max(0.0, pt.carrying_liquid[p] + moved);
-    pt.eroded_mass[p] += moved;
-    pt.porosity[p] += moved / (rho_s * V);
-    rate[p] = moved / (rho_s * V * dt);
-  }
+    const T magnitude = lane_sqrt(q2);
+    store_at(in.flux_magnitude + p, magnitude);
+    store_at(in.hydraulic_gradient + p, magnitude / load_at<T>(in.conductivity + p));  // Darcy: q = K i
+    store_at(in.fines_content + p, load_at<T>(pt.skeleton_fines + p) / load_at<T>(pt.solid_mass + p));
+    const T fines = load_at<T>(pt.suspended_fines + p), liquid = load_at<T>(pt.liquid_mass + p);
+    const T rho_s = load_at<T>(pt.grain_density + p), rho_w = load_at<T>(in.water_density + p);
+    store_at(in.concentration + p, suspended_concentration(fines, liquid, rho_s, rho_w));
+    const CarrierState<T> carrier =
+        carrier_state(fines, load_at<T>(pt.carrying_liquid + p), liquid, rho_s, rho_w);
+    store_at(in.carrier_share + p, carrier.share);
+    store_at(in.carrier_concentration + p, carrier.concentration);
+    mixed = any_lane(carrier.share < splat<T>(1.0)) || mixed;
+  });
+  return mixed;
+}
+
+// The fields erosion changes beside SpeciesPoints, and the step's
+// increments of porosity, fines content and eroded fraction.
+struct ErosionState {
+  double *fines_content, *eroded_fraction;
+  double *porosity_increment, *fines_content_increment, *eroded_fraction_increment;
+};
+
+// apply_erosion_at at points [begin, end), then their fines content, eroded
+// fraction and increments (the porosity's includes the deformation's share,
+// added earlier in the step). Returns whether any point eroded or deposited.
+template <int L>
+[[gnu::always_inline]] inline bool erode_points(std::size_t begin, std::size_t end, double dt,
+                                                const SpeciesPoints& pt, const double* ultimate_fines, double* rate,
+                                                const ErosionState& st) {
+  bool moved = false;
+  for_points_in_lanes<L>(begin, end, [&]<class T>(std::size_t p) {
+    const T n0 = load_at<T>(pt.porosity + p), fc0 = load_at<T>(st.fines_content + p);
+    const T fer0 = load_at<T>(st.eroded_fraction + p);
+    apply_erosion_at<T>(p, dt, pt, ultimate_fines, rate);
+    const T solid = load_at<T>(pt.solid_mass + p), eroded = load_at<T>(pt.eroded_mass + p);
+    const T fc = load_at<T>(pt.skeleton_fines + p) / solid, fer = eroded / (solid + eroded);
+    store_at(st.fines_content + p, fc);
+    store_at(st.eroded_fraction + p, fer);
+    store_at(st.porosity_increment + p, load_at<T>(st.porosity_increment + p) - n0 + load_at<T>(pt.porosity + p));
+    store_at(st.fines_content_increment + p, fc - fc0);
+    store_at(st.eroded_fraction_increment + p, fer - fer0);
+    moved = any_lane(load_at<T>(rate + p) != T{}) || moved;
+  });
+  return moved;
 }
 
 // Scatter: pore volume, liquid, suspended fines and the liquid carrying
@@ -375,6 +453,32 @@ template <int L = 2>
     }
     for (int s = 0; s < count; ++s) amount[s][p] += change[s / L][s % L];
   }
+}
+
+// After the transport: each point's pore liquid, rho_L = c rho_s + (1 - c)
+// rho_w (liquid.hpp's suspension_density), and the liquid mass the momentum
+// balance moves with the point, the pores full of it: n V rho_L. Not the
+// carried mass itself, which near a free surface inside the grid can pile up
+// (docs/two-phase.md, known defects). Dry points (n <= 0) keep their values.
+struct PoreLiquidPoints {
+  const double *volume, *porosity, *grain_density, *water_density;
+  const double *suspended_fines, *liquid_mass;  // suspended_fines may be null: clean water
+  double *concentration, *density, *moving_mass;  // concentration may be null
+};
+template <int L>
+[[gnu::always_inline]] inline void pore_liquid_density(std::size_t begin, std::size_t end, const PoreLiquidPoints& pt) {
+  for_points_in_lanes<L>(begin, end, [&]<class T>(std::size_t p) {
+    const T n = load_at<T>(pt.porosity + p);
+    const auto dry = n <= T{};
+    const T rho_s = load_at<T>(pt.grain_density + p), rho_w = load_at<T>(pt.water_density + p);
+    const T c = pt.suspended_fines ? suspended_concentration(load_at<T>(pt.suspended_fines + p),
+                                                             load_at<T>(pt.liquid_mass + p), rho_s, rho_w)
+                                   : T{};
+    if (pt.concentration) store_at(pt.concentration + p, pick(dry, load_at<T>(pt.concentration + p), c));
+    const T rho = c * rho_s + (splat<T>(1.0) - c) * rho_w;
+    store_at(pt.density + p, pick(dry, load_at<T>(pt.density + p), rho));
+    store_at(pt.moving_mass + p, pick(dry, load_at<T>(pt.moving_mass + p), n * load_at<T>(pt.volume + p) * rho));
+  });
 }
 
 }  // namespace suffuse::detail

@@ -156,27 +156,13 @@ bool SpeciesTransport::erode(double dt) {
     if (!body.saturated || !law) continue;
     d_.exec.for_chunks(body.range.size(), [&](int chunk, std::size_t b, std::size_t e) {
       const std::size_t begin = body.range.begin + b, end = body.range.begin + e, count = e - b;
-      const double* q = pts.data(m_.darcy_flux);
-      const double* K = pts.data(m_.conductivity);
-      const double* rho_w = pts.data(m_.water_density);
-      double* fc = pts.data(f.fines_content);
-      double* c = pts.data(f.concentration);
-      double* grad = pts.data(f.hydraulic_gradient);
-      const double* carrying = pts.data(f.carrying_liquid);
+      const ErosionInputs in{pts.data(m_.darcy_flux),          pts.data(m_.conductivity),
+                             pts.data(m_.water_density),       flux_magnitude_.data(),
+                             pts.data(f.hydraulic_gradient),   pts.data(f.fines_content),
+                             pts.data(f.concentration),        carrier_share_.data(),
+                             carrier_concentration_.data()};
       bool mixed = false;  // some points hold clean water beside the suspension
-      for (std::size_t p = begin; p < end; ++p) {
-        double q2 = 0;
-        for (int i = 0; i < dim; ++i) q2 += q[p * dim + i] * q[p * dim + i];
-        flux_magnitude_[p] = std::sqrt(q2);
-        grad[p] = flux_magnitude_[p] / K[p];  // Darcy: q = K i
-        fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
-        c[p] = suspended_concentration(pt.suspended_fines[p], pt.liquid_mass[p], pt.grain_density[p], rho_w[p]);
-        const CarrierState cs = carrier_state(pt.suspended_fines[p], carrying[p], pt.liquid_mass[p],
-                                              pt.grain_density[p], rho_w[p]);
-        carrier_share_[p] = cs.share;
-        carrier_concentration_[p] = cs.concentration;
-        mixed = mixed || cs.share < 1;
-      }
+      d_.exec.vector_kernel(dim, [&]<int D, int L>() { mixed = erosion_inputs<D, L>(begin, end, pt, in); });
       auto span = [&](FieldId id) { return std::span<const double>(pts.data(id) + begin, count); };
       auto scratch = [&](std::vector<double>& v) { return std::span<const double>(v.data() + begin, count); };
       double* rate = pts.data(f.erosion_rate);
@@ -195,25 +181,16 @@ bool SpeciesTransport::erode(double dt) {
           if (carrier_share_[p] < 1)
             rate[p] = carrier_share_[p] * rate[p] + (1 - carrier_share_[p]) * clean_rate_[p];
       }
-      double* dn = pts.data(m_.porosity_increment);
-      double* dfc = pts.data(f.fines_content_increment);
-      double* fer = pts.data(f.eroded_fraction);
-      double* dfer = pts.data(f.eroded_fraction_increment);
-      for (std::size_t p = begin; p < end; ++p) dn[p] -= pt.porosity[p], dfc[p] = fc[p], dfer[p] = fer[p];
-      apply_erosion(begin, end, dt, pt, pts.data(f.ultimate_fines_content), rate);
-      for (std::size_t p = begin; p < end && !moved[chunk]; ++p) moved[chunk] = rate[p] != 0;
+      const ErosionState st{pts.data(f.fines_content), pts.data(f.eroded_fraction), pts.data(m_.porosity_increment),
+                            pts.data(f.fines_content_increment), pts.data(f.eroded_fraction_increment)};
+      const double* ultimate = pts.data(f.ultimate_fines_content);
+      d_.exec.vector_kernel(dim, [&]<int, int L>() {
+        moved[chunk] = erode_points<L>(begin, end, dt, pt, ultimate, rate, st) || moved[chunk];
+      });
       // Clean water that took up fines (a law that erodes at c = 0) carries them now.
       if (mixed)
         for (std::size_t p = begin; p < end; ++p)
           if (carrier_share_[p] < 1 && clean_rate_[p] > 0 && rate[p] > 0) pt.carrying_liquid[p] = pt.liquid_mass[p];
-      for (std::size_t p = begin; p < end; ++p) {
-        fc[p] = pt.skeleton_fines[p] / pt.solid_mass[p];
-        fer[p] = pt.eroded_mass[p] / (pt.solid_mass[p] + pt.eroded_mass[p]);
-        // The step's increments: the deformation's share of dn is there already.
-        dn[p] += pt.porosity[p];
-        dfc[p] = fc[p] - dfc[p];
-        dfer[p] = fer[p] - dfer[p];
-      }
     });
   }
   return std::find(moved.begin(), moved.end(), 1) != moved.end();
@@ -340,12 +317,15 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   }
   add_to_totals(discharge_step_);
 
-  const double* rho_w = pts.data(m_.water_density);
-  const double* rho_s = pts.data(m_.grain_density);
-  const double* ml = pts.data(m_.liquid_mass);
-  double* rho = pts.data(m_.liquid_density);
-  double* moving = pts.data(m_.moving_liquid_mass);
-  double* c = fines_ ? pts.data(fines_->concentration) : nullptr;
+  const PoreLiquidPoints liquid{V,
+                                n,
+                                pts.data(m_.grain_density),
+                                pts.data(m_.water_density),
+                                fines,
+                                pts.data(m_.liquid_mass),
+                                fines_ ? pts.data(fines_->concentration) : nullptr,
+                                pts.data(m_.liquid_density),
+                                pts.data(m_.moving_liquid_mass)};
   const std::size_t nn = d_.grid.node_count();
   d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
     share_rates(b, e, 0, node_pore_.data(), node_liquid_.data(), node_dliquid_.data(), share_block_.data());
@@ -359,18 +339,8 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
     d_.exec.vector_kernel(d_.dim(), [&]<int, int L>() {
       g2p_share<L>(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_block_.data(), amounts);
+      pore_liquid_density<L>(b, e, liquid);
     });
-    // The momentum balance sees the pores full of the liquid the point
-    // carries: n V rho_L, rho_L = c rho_s + (1 - c) rho_w. Not the carried
-    // mass itself, which near a free surface inside the grid can pile up
-    // (docs/two-phase.md, known defects).
-    for (std::size_t p = b; p < e; ++p) {
-      if (n[p] <= 0) continue;
-      const double conc = fines ? suspended_concentration(fines[p], ml[p], rho_s[p], rho_w[p]) : 0.0;
-      if (c) c[p] = conc;
-      rho[p] = suspension_density(conc, rho_s[p], rho_w[p]);
-      moving[p] = n[p] * V[p] * rho[p];
-    }
   });
 }
 
