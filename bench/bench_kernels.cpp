@@ -13,6 +13,7 @@
 #include <suffuse/shape_function.hpp>
 #include <vector>
 
+#include "domain.hpp"
 #include "executor.hpp"
 #include "solid_kernels.hpp"
 #include "species_kernels.hpp"
@@ -30,18 +31,19 @@ struct Synthetic {
   suffuse::Registry registry;
   suffuse::GridGeometry grid{D, {0.0, 0.0, 0.0}, {h, h, h}, {cells, cells, 1}};
   std::size_t n = 0, nodes = grid.node_count();
-  int npp = 0;
+  Interpolation shape;
   std::vector<double> x, size, mass, volume, velocity, stress, L, strain, porosity, pressure, scalar;
-  std::vector<suffuse::NodeId> ids;
-  std::vector<double> w, dw;
   std::vector<double> node_mass, node_vector, node_vector2, node_force, node_scalar, node_scalar2;
-  ScatterRanges ranges;
 
   explicit Synthetic(const char* shape_name) {
     suffuse::PluginLoader loader(registry);
     loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
     const auto shape = registry.create<suffuse::ShapeFunction>(shape_name, {suffuse::Parameters{}, D, "/shape_function"});
-    npp = shape->nodes_per_point(D);
+    for (int a = 0; a < D; ++a) {
+      this->shape.nodes[a] = shape->support(grid.nodes_per_axis()[a]);
+      this->shape.per_point += this->shape.nodes[a];
+    }
+    this->shape.stride = {1, grid.node_index(0, 1, 0), 0};
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> jitter(-0.05 * h, 0.05 * h), unit(-1, 1);
     for (int j = 0; j < 2 * cells; ++j)
@@ -59,10 +61,10 @@ struct Synthetic {
       for (std::size_t k = 0; k < m; ++k) v->push_back(unit(rng));
     }
     strain.assign(n * 6, 0.0);
-    ids.resize(n * npp);
-    w.resize(n * npp);
-    dw.resize(n * npp * D);
-    shape->evaluate(grid, x, size, ids, w, dw);
+    this->shape.first.resize(n);
+    this->shape.weights.resize(n * this->shape.per_point);
+    this->shape.derivatives.resize(n * this->shape.per_point);
+    shape->evaluate(grid, x, size, this->shape.first, this->shape.weights, this->shape.derivatives);
     node_mass.assign(nodes, 1.0);
     node_scalar.assign(nodes, 1.0);
     node_scalar2.assign(nodes, 0.5);
@@ -70,8 +72,9 @@ struct Synthetic {
       v->resize(nodes * D);
       for (double& e : *v) e = unit(rng);
     }
-    Executor(1).chunk_ranges(ids.data(), npp, n, ranges);
+    Executor(1).chunk_ranges(this->shape.first.data(), 1, n, this->shape.chunks, this->shape.view().extent());
   }
+  PointSupports supports() const { return shape.view(); }
 };
 
 void done(benchmark::State& state, const Synthetic& s) {
@@ -82,8 +85,8 @@ void shape_functions(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
   const auto shape = s.registry.create<suffuse::ShapeFunction>(shape_name, {suffuse::Parameters{}, D, "/shape_function"});
   for (auto _ : state) {
-    shape->evaluate(s.grid, s.x, s.size, s.ids, s.w, s.dw);
-    benchmark::DoNotOptimize(s.w.data());
+    shape->evaluate(s.grid, s.x, s.size, s.shape.first, s.shape.weights, s.shape.derivatives);
+    benchmark::DoNotOptimize(s.shape.weights.data());
   }
   done(state, s);
 }
@@ -104,11 +107,11 @@ void p2g_dry(benchmark::State& state, const char* shape_name) {
   std::vector<double> block(s.nodes * dry_block);
   for (auto _ : state) {
     std::fill(block.begin(), block.end(), 0.0);
-    ScatterTargets targets(s.ids.data(), s.npp, s.nodes, &s.ranges);
+    ScatterTargets targets = s.shape.targets(s.nodes);
     targets.add(block);
     exec.scatter(s.n, targets, [&](std::size_t b, std::size_t e, double* const* out) {
       exec.vector_kernel(D, [&]<int Dim, int L>() {
-        p2g_kernel<Dim, L>(b, e, s.npp, s.ids.data(), s.w.data(), s.dw.data(), s.mass.data(), s.volume.data(),
+        p2g_kernel<Dim, L>(b, e, s.supports(), s.mass.data(), s.volume.data(),
                            s.velocity.data(), s.stress.data(), g, 1.0, out[0]);
       });
     });
@@ -136,7 +139,7 @@ void p2g_two_phase(benchmark::State& state, const char* shape_name) {
   for (auto _ : state) {
     std::fill(block.begin(), block.end(), 0.0);
     vector_kernel([&]<int Dim, int L>() {
-      p2g_saturated<Dim, L>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.dw.data(), pt, g, 1.0, block.data());
+      p2g_saturated<Dim, L>(0, s.n, s.supports(), pt, g, 1.0, block.data());
     });
     unpack_saturated_block<D>(0, s.nodes, block.data(), nodes);
     benchmark::DoNotOptimize(out[2].data());
@@ -148,7 +151,7 @@ void g2p(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
   std::vector<double> u(s.n * D, 0.0);
   for (auto _ : state) {
-    g2p_kernel<D>(0, s.n, s.npp, 1e-6, s.ids.data(), s.w.data(), s.node_vector.data(), s.node_vector2.data(),
+    g2p_kernel<D>(0, s.n, 1e-6, s.supports(), s.node_vector.data(), s.node_vector2.data(),
                   s.x.data(), u.data(), s.velocity.data());
     benchmark::DoNotOptimize(s.velocity.data());
   }
@@ -160,7 +163,7 @@ void remap(benchmark::State& state, const char* shape_name) {
   for (auto _ : state) {
     std::fill(s.node_vector.begin(), s.node_vector.end(), 0.0);
     vector_kernel([&]<int Dim, int L>() {
-      remap_kernel<Dim, L>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.mass.data(), 1.0, s.velocity.data(),
+      remap_kernel<Dim, L>(0, s.n, s.supports(), s.mass.data(), 1.0, s.velocity.data(),
                            s.node_vector.data());
     });
     benchmark::DoNotOptimize(s.node_vector.data());
@@ -171,7 +174,7 @@ void remap(benchmark::State& state, const char* shape_name) {
 void velocity_gradient(benchmark::State& state, const char* shape_name) {
   Synthetic s(shape_name);
   for (auto _ : state) {
-    velocity_gradient_kernel<D, true>(0, s.n, s.npp, 1e-9, s.ids.data(), s.dw.data(), s.node_vector.data(), s.L.data(),
+    velocity_gradient_kernel<D, true>(0, s.n, 1e-9, s.supports(), s.node_vector.data(), s.L.data(),
                                       s.strain.data(), s.volume.data());
     benchmark::DoNotOptimize(s.L.data());
   }
@@ -185,8 +188,8 @@ void transport_share(benchmark::State& state, const char* shape_name) {
   share_rates(0, s.nodes, 0, s.node_scalar.data(), s.node_scalar.data(), s.node_vector.data(), block.data());
   double* const amounts[3] = {amount.data(), nullptr, nullptr};
   for (auto _ : state) {
-    vector_kernel([&]<int, int L>() {
-      g2p_share<L>(0, s.n, s.npp, s.ids.data(), s.w.data(), s.volume.data(), s.porosity.data(), block.data(),
+    vector_kernel([&]<int Dim, int L>() {
+      g2p_share<Dim, L>(0, s.n, s.supports(), s.volume.data(), s.porosity.data(), block.data(),
                    amounts);
     });
     benchmark::DoNotOptimize(amount.data());

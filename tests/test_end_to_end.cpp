@@ -534,7 +534,7 @@ TEST(EndToEnd, ScenesThatCannotRunAreRefusedWithAnEstimate) {
   huge["grid"]["cells"] = {20000, 20000};
   huge["grid"]["cell_size"] = {1e-4, 1e-4};
   huge["bodies"][0]["max"] = {1.0, 1.0};
-  EXPECT_NE(refused(huge, "huge").find("this scene needs about 533 GiB (4e+08 material points, 4e+08 grid nodes), more than"),
+  EXPECT_NE(refused(huge, "huge").find("this scene needs about 463 GiB (4e+08 material points, 4e+08 grid nodes), more than"),
             std::string::npos)
       << slurp(out / "huge.log");
   EXPECT_FALSE(fs::exists(out / "huge")) << "nothing written";

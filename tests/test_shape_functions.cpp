@@ -1,4 +1,5 @@
-// Shape functions: partition of unity, zero gradient sum, exact linear fields.
+// Shape functions: partition of unity, zero gradient sum, exact linear fields;
+// supports inside the grid.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -7,7 +8,43 @@
 #include <tuple>
 #include <suffuse/plugin_loader.hpp>
 
+#include "point_supports.hpp"
+
 namespace {
+
+// A shape function's values at points, node by node as the core forms them
+// from the 1D factors (point_supports.hpp), after checking that every
+// support lies in the grid.
+struct Evaluated {
+  int npp = 0;
+  std::vector<suffuse::NodeId> ids;
+  std::vector<double> w, dw;
+};
+Evaluated evaluate(const suffuse::ShapeFunction& shape, const suffuse::GridGeometry& grid,
+                   const std::vector<double>& x, const std::vector<double>& sizes) {
+  const int dim = grid.dim();
+  const std::size_t n = x.size() / dim;
+  suffuse::detail::PointSupports s;
+  for (int a = 0; a < dim; ++a) {
+    s.nodes[a] = shape.support(grid.nodes_per_axis()[a]);
+    s.per_point += s.nodes[a];
+  }
+  s.stride = {1, grid.node_index(0, 1, 0), dim == 3 ? grid.node_index(0, 0, 1) : 0};
+  std::vector<suffuse::NodeId> first(n);
+  std::vector<double> weights(n * s.per_point), derivatives(n * s.per_point);
+  shape.evaluate(grid, x, sizes, first, weights, derivatives);
+  for (std::size_t p = 0; p < n; ++p) {
+    const auto ijk = grid.node_ijk(first[p]);
+    for (int a = 0; a < dim; ++a) {
+      EXPECT_GE(ijk[a], 0) << "point " << p;
+      EXPECT_LE(ijk[a] + s.nodes[a], grid.nodes_per_axis()[a]) << "point " << p << ", axis " << a;
+    }
+  }
+  s.first = first.data(), s.weights = weights.data(), s.derivatives = derivatives.data();
+  suffuse::detail::ExpandedSupports e;
+  suffuse::detail::expand_supports(s, dim, n, e);
+  return {e.npp, e.ids, e.weights, e.gradients};
+}
 
 using Case = std::tuple<std::string, int>;  // plugin, dimension
 
@@ -21,8 +58,7 @@ TEST_P(ShapeFunctions, PartitionOfUnityAndLinearReproduction) {
   suffuse::Parameters none;
   auto shape = registry.create<suffuse::ShapeFunction>(name, {none, dim, "/shape_function"});
   const suffuse::GridGeometry grid(dim, {-1.0, 0.5, 2.0}, {0.3, 0.2, 0.7}, {7, 9, 4});
-  const int npp = shape->nodes_per_point(dim);
-  ASSERT_EQ(npp, name == "shape/linear" ? (1 << dim) : (dim == 2 ? 9 : 27));
+  for (int nodes : {2, 3, 8}) EXPECT_EQ(shape->support(nodes), name == "shape/linear" ? 2 : std::min(nodes, 3));
 
   const std::size_t n = 1000;
   std::mt19937 rng(42);
@@ -45,9 +81,8 @@ TEST_P(ShapeFunctions, PartitionOfUnityAndLinearReproduction) {
       x[dim + a] = grid.upper(a);
     }
   }
-  std::vector<suffuse::NodeId> ids(n * npp);
-  std::vector<double> w(n * npp), dw(n * npp * dim);
-  shape->evaluate(grid, x, sizes, ids, w, dw);
+  const auto [npp, ids, w, dw] = evaluate(*shape, grid, x, sizes);
+  ASSERT_EQ(npp, name == "shape/linear" ? (1 << dim) : (dim == 2 ? 9 : 27));
 
   // A linear field f(x) = c0 + c . x is reproduced exactly, and so is its gradient.
   const double c0 = 0.7, c[3] = {1.5, -2.25, 0.5};
@@ -97,9 +132,7 @@ TEST(ShapeFunctions, GimpIsContinuousAcrossCellFaces) {
   const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
   const double eps = 1e-9;
   const std::vector<double> x = {2 - eps, 1.5, 2 + eps, 1.5}, sizes = {0.5, 0.5, 0.5, 0.5};
-  std::vector<suffuse::NodeId> ids(18);
-  std::vector<double> w(18), dw(36);
-  gimp->evaluate(grid, x, sizes, ids, w, dw);
+  const auto [npp, ids, w, dw] = evaluate(*gimp, grid, x, sizes);
   // Sum each node's weight and x-gradient over both points' stencils, per point.
   std::map<std::int64_t, double> w0, w1, g0, g1;
   for (int k = 0; k < 9; ++k) {
@@ -131,9 +164,7 @@ TEST(ShapeFunctions, GimpKeepsPartitionOfUnityAtTheGridBoundary) {
   std::vector<double> sizes(x.size(), 0.5);
   for (std::size_t k = 8; k < sizes.size(); ++k) sizes[k] = 1.0;
   const std::size_t n = x.size() / 2;
-  std::vector<suffuse::NodeId> ids(9 * n);
-  std::vector<double> w(9 * n), dw(18 * n);
-  gimp->evaluate(grid, x, sizes, ids, w, dw);
+  const auto [npp, ids, w, dw] = evaluate(*gimp, grid, x, sizes);
   for (std::size_t p = 0; p < n; ++p) {
     double sum = 0, gx = 0, gy = 0;
     for (int k = 0; k < 9; ++k) {
@@ -145,6 +176,30 @@ TEST(ShapeFunctions, GimpKeepsPartitionOfUnityAtTheGridBoundary) {
     EXPECT_NEAR(sum, 1.0, 1e-14) << "point " << p;
     EXPECT_NEAR(gx, 0.0, 1e-14) << "point " << p;
     EXPECT_NEAR(gy, 0.0, 1e-14) << "point " << p;
+  }
+}
+
+// On an axis of one cell (a column one cell wide) GIMP spans the axis's two
+// nodes, with the weight of the nodes past the grid lumped on them.
+TEST(ShapeFunctions, GimpOnAnAxisOfOneCell) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
+  suffuse::Parameters none;
+  auto gimp = registry.create<suffuse::ShapeFunction>("shape/gimp", {none, 2, "/shape_function"});
+  const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {1, 4, 1});
+  const std::vector<double> x = {0.25, 0.3, 0.75, 2.6, 0.5, 3.7}, sizes(6, 0.5);
+  const auto [npp, ids, w, dw] = evaluate(*gimp, grid, x, sizes);
+  ASSERT_EQ(npp, 6);
+  for (std::size_t p = 0; p < 3; ++p) {
+    double sum = 0, gx = 0, f = 0;
+    for (int k = 0; k < npp; ++k) {
+      const std::size_t q = p * npp + k;
+      sum += w[q], gx += dw[2 * q], f += w[q] * grid.node_position(ids[q])[1];
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-14) << "point " << p;
+    EXPECT_NEAR(gx, 0.0, 1e-14) << "point " << p;
+    EXPECT_NEAR(f, x[2 * p + 1], 1e-12) << "point " << p << ": y is reproduced";
   }
 }
 

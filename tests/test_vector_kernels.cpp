@@ -3,12 +3,13 @@
 // points to grid, both remaps, species, pressure rates), and the gathers
 // (grid to points, velocity gradient, the transport's shares), in 2D and 3D,
 // with two lanes, with four lanes on the baseline (the AVX2 path's logic on
-// any machine) and on AVX2 where this machine has it (kernel_isa.hpp). Node
-// ids repeat within a point's support, as they do at a grid edge. Then the
+// any machine) and on AVX2 where this machine has it (kernel_isa.hpp), with
+// some factors zero, as outside a support. Then the
 // transport's exchange from per-node shares against the per-face form it
 // replaced (each face from both of its nodes).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "kernel_isa.hpp"
+#include "point_supports.hpp"
 #include "test_support.hpp"
 #include "solid_kernels.hpp"
 #include "species_kernels.hpp"
@@ -29,7 +31,7 @@ namespace {
 using namespace suffuse::detail;
 using suffuse::NodeId;
 
-constexpr std::size_t points = 300, nodes = 40;
+constexpr std::size_t points = 300, nodes = 48;
 
 // How a kernel runs: two lanes (the portable kernels), four lanes compiled
 // for the baseline, or the AVX2 copy.
@@ -62,26 +64,40 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-// Random point and node data for dimension D (npp nodes per point).
+// Random point and node data for dimension D: supports of three nodes per
+// axis on a grid of `nodes` nodes (6 x 8 in 2D, 4 x 4 x 3 in 3D), the
+// kernels' input, and the same written out node by node (ids, w, dw) for
+// the scalar forms.
 template <int D>
 struct Data {
   int npp = D == 2 ? 9 : 27;
-  std::vector<NodeId> ids;
-  std::vector<double> w, dw, mass, volume, vel, stress, n, pressure, liquid_vel, liquid_mass, conductivity, rho_w,
+  std::array<int, 3> grid_nodes = D == 2 ? std::array<int, 3>{6, 8, 1} : std::array<int, 3>{4, 4, 3};
+  std::vector<NodeId> first, ids;
+  std::vector<double> weights1d, derivatives1d, w, dw, mass, volume, vel, stress, n, pressure, liquid_vel, liquid_mass, conductivity, rho_w,
       fines, carrying, rate, node_a, node_b, node_c, node_scalar;
   explicit Data(unsigned seed) {
     std::mt19937 gen(seed);
     std::uniform_real_distribution<double> u(-1, 1), pos(0.1, 2);
-    std::uniform_int_distribution<NodeId> id(0, nodes - 1);
     auto fill = [&](std::vector<double>& v, std::size_t size, bool positive) {
       v.resize(size);
       for (double& x : v) x = positive ? pos(gen) : u(gen);
     };
-    ids.resize(points * npp);
-    for (auto& i : ids) i = id(gen);
-    fill(w, points * npp, true);
-    fill(dw, points * npp * D, false);
-    for (std::size_t q = 0; q < w.size(); q += 7) w[q] = 0, dw[q * D] = 0;  // zero weights, as outside a support
+    first.resize(points);
+    for (auto& f : first) {
+      int ijk[3] = {0, 0, 0};
+      for (int a = 0; a < D; ++a) ijk[a] = std::uniform_int_distribution<int>(0, grid_nodes[a] - 3)(gen);
+      f = ijk[0] + grid_nodes[0] * (ijk[1] + grid_nodes[1] * ijk[2]);
+    }
+    weights1d.resize(points * 3 * D), derivatives1d.resize(points * 3 * D);
+    for (std::size_t p = 0; p < points; ++p)
+      for (int a = 0; a < D; ++a)
+        for (int k = 0; k < 3; ++k) {
+          weights1d[(p * D + a) * 3 + k] = (p + k) % 7 == 0 ? 0.0 : pos(gen);  // zero, as outside a support
+          derivatives1d[(p * D + a) * 3 + k] = (p + k) % 7 == 0 ? 0.0 : u(gen);
+        }
+    ExpandedSupports e;
+    expand_supports(supports(), D, points, e);
+    ids = e.ids, w = e.weights, dw = e.gradients;
     fill(mass, points, true), fill(volume, points, true), fill(vel, points * D, false);
     fill(stress, points * 6, false), fill(n, points, true), fill(pressure, points, false);
     for (std::size_t p = 0; p < points; p += 11) n[p] = 0;  // dry points
@@ -89,6 +105,10 @@ struct Data {
     fill(rho_w, points, true), fill(fines, points, true), fill(carrying, points, true), fill(rate, points, false);
     fill(node_a, nodes * D, false), fill(node_b, nodes * D, false), fill(node_c, nodes * D, false);
     fill(node_scalar, nodes, true);
+  }
+  PointSupports supports() const {
+    return {first.data(), weights1d.data(), derivatives1d.data(), 3 * D, {3, 3, D == 3 ? 3 : 1},
+            {1, grid_nodes[0], D == 3 ? grid_nodes[0] * grid_nodes[1] : 0}};
   }
   SaturatedPoints saturated() const {
     return {mass.data(),       volume.data(), vel.data(),         stress.data(),       n.data(),
@@ -208,14 +228,14 @@ void expect_each_kernel_is_its_scalar_form() {
     std::vector<double> want(nodes * saturated_block<D>, 0.0), got = want;
     p2g_saturated_scalar(d, g, scale, want.data());
     run<D>(isa, [&]<int, int L>() {
-      p2g_saturated<D, L>(0, points, d.npp, d.ids.data(), d.w.data(), d.dw.data(), d.saturated(), g, scale,
+      p2g_saturated<D, L>(0, points, d.supports(), d.saturated(), g, scale,
                           got.data());
     });
     EXPECT_TRUE(same_bits(want, got)) << "p2g_saturated" << on;
     want.assign(nodes * dry_block, 0.0), got = want;
     p2g_dry_scalar(d, g, scale, want.data());
     run<D>(isa, [&]<int, int L>() {
-      p2g_kernel<D, L>(0, points, d.npp, d.ids.data(), d.w.data(), d.dw.data(), d.mass.data(), d.volume.data(),
+      p2g_kernel<D, L>(0, points, d.supports(), d.mass.data(), d.volume.data(),
                        d.vel.data(), d.stress.data(), g, scale, got.data());
     });
     EXPECT_TRUE(same_bits(want, got)) << "p2g_kernel" << on;
@@ -230,7 +250,7 @@ void expect_each_kernel_is_its_scalar_form() {
         }
       }
     run<D>(isa, [&]<int, int L>() {
-      remap_two_phase<D, L>(0, points, d.npp, d.ids.data(), d.w.data(), d.mass.data(), d.liquid_mass.data(), scale,
+      remap_two_phase<D, L>(0, points, d.supports(), d.mass.data(), d.liquid_mass.data(), scale,
                             d.vel.data(), d.liquid_vel.data(), got.data());
     });
     EXPECT_TRUE(same_bits(want, got)) << "remap_two_phase" << on;
@@ -241,7 +261,7 @@ void expect_each_kernel_is_its_scalar_form() {
         for (int i = 0; i < D; ++i) want[d.ids[q] * D + i] += d.w[q] * (scale * d.mass[p]) * d.vel[p * D + i];
       }
     run<D>(isa, [&]<int, int L>() {
-      remap_kernel<D, L>(0, points, d.npp, d.ids.data(), d.w.data(), d.mass.data(), scale, d.vel.data(), got.data());
+      remap_kernel<D, L>(0, points, d.supports(), d.mass.data(), scale, d.vel.data(), got.data());
     });
     EXPECT_TRUE(same_bits(want, got)) << "remap_kernel" << on;
     // Species and pressure rates. Dry points add nothing; here they add
@@ -253,7 +273,7 @@ void expect_each_kernel_is_its_scalar_form() {
       return a[c];
     }, want.data());
     run<D>(isa, [&]<int, int L>() {
-      p2g_species<L>(0, points, d.npp, d.ids.data(), d.w.data(), d.volume.data(), d.n.data(),
+      p2g_species<D, L>(0, points, d.supports(), d.volume.data(), d.n.data(),
                      d.liquid_mass.data(), d.fines.data(), d.carrying.data(), got.data());
     });
     EXPECT_TRUE(same_bits(want, got)) << "p2g_species" << on;
@@ -262,7 +282,7 @@ void expect_each_kernel_is_its_scalar_form() {
       return d.n[p] <= 0 ? 0.0 : c == 0 ? d.volume[p] * d.rate[p] : d.volume[p];
     }, want.data());
     run<D>(isa, [&]<int, int L>() {
-      p2g_pressure_rate<L>(0, points, d.npp, d.ids.data(), d.w.data(), d.volume.data(), d.n.data(), d.rate.data(),
+      p2g_pressure_rate<D, L>(0, points, d.supports(), d.volume.data(), d.n.data(), d.rate.data(),
                            got.data());
     });
     EXPECT_TRUE(same_bits(want, got)) << "p2g_pressure_rate" << on;
@@ -271,12 +291,12 @@ void expect_each_kernel_is_its_scalar_form() {
     std::vector<double> x2 = x, u2 = u, v2 = v, vl2 = vl;
     g2p_scalar(d, dt, x.data(), u.data(), v.data(), vl.data());
     run<D>(isa, [&]<int, int L>() {
-      g2p_kernel<D, true, L>(0, points, d.npp, dt, d.ids.data(), d.w.data(), d.node_a.data(), d.node_b.data(),
+      g2p_kernel<D, true, L>(0, points, dt, d.supports(), d.node_a.data(), d.node_b.data(),
                              x2.data(), u2.data(), v2.data(), d.node_c.data(), vl2.data());
     });
     EXPECT_TRUE(same_bits(x, x2) && same_bits(u, u2) && same_bits(v, v2) && same_bits(vl, vl2)) << "g2p" << on;
     run<D>(isa, [&]<int, int L>() {  // the solid alone, as the dry step calls it
-      g2p_kernel<D, false, L>(0, points, d.npp, dt, d.ids.data(), d.w.data(), d.node_a.data(), d.node_b.data(),
+      g2p_kernel<D, false, L>(0, points, dt, d.supports(), d.node_a.data(), d.node_b.data(),
                               x2.data(), u2.data(), v2.data());
     });
     std::vector<double> vl_unused(points * D, 0.3);
@@ -286,7 +306,7 @@ void expect_each_kernel_is_its_scalar_form() {
     std::vector<double> L1(points * D * D), L2 = L1;
     velocity_gradient_scalar(d, L1.data());
     run<D>(isa, [&]<int, int L>() {
-      velocity_gradient_kernel<D, false, L>(0, points, d.npp, dt, d.ids.data(), d.dw.data(), d.node_a.data(),
+      velocity_gradient_kernel<D, false, L>(0, points, dt, d.supports(), d.node_a.data(),
                                             L2.data(), nullptr, nullptr);
     });
     EXPECT_TRUE(same_bits(L1, L2)) << "velocity_gradient" << on;
@@ -299,7 +319,7 @@ void expect_each_kernel_is_its_scalar_form() {
       V1[p] *= step_jacobian<D>(Lp, dt);
     }
     run<D>(isa, [&]<int, int L>() {
-      velocity_gradient_kernel<D, true, L>(0, points, d.npp, dt, d.ids.data(), d.dw.data(), d.node_a.data(),
+      velocity_gradient_kernel<D, true, L>(0, points, dt, d.supports(), d.node_a.data(),
                                            L2.data(), e2.data(), V2.data());
     });
     EXPECT_TRUE(same_bits(L1, L2) && same_bits(e1, e2) && same_bits(V1, V2)) << "velocity_gradient, integrated" << on;
@@ -321,7 +341,7 @@ void expect_each_kernel_is_its_scalar_form() {
     }
     double* const amounts[3] = {held2[0].data(), held2[1].data(), held2[2].data()};
     run<D>(isa, [&]<int, int L>() {
-      g2p_share<L>(0, points, d.npp, d.ids.data(), d.w.data(), d.volume.data(), d.n.data(), block.data(), amounts);
+      g2p_share<D, L>(0, points, d.supports(), d.volume.data(), d.n.data(), block.data(), amounts);
     });
     for (int s = 0; s < 3; ++s) EXPECT_TRUE(same_bits(held[s], held2[s])) << "g2p_share, species " << s << on;
   }

@@ -16,7 +16,15 @@ Domain::Domain(const Scene& scene, const Registry& registry, int threads)
       shape_function_(registry.create<ShapeFunction>(
           scene.shape_function.type, {scene.shape_function.params, scene.dim, scene.shape_function.pointer})),
       average_volumetric_rate_(scene.volumetric_strain == VolumetricStrain::cell_average) {
-  shape.npp = shape_function_->nodes_per_point(scene.dim);
+  for (int a = 0; a < scene.dim; ++a) {
+    shape.nodes[a] = shape_function_->support(grid.nodes_per_axis()[a]);
+    if (shape.nodes[a] < 1 || shape.nodes[a] > grid.nodes_per_axis()[a])
+      throw Error("/shape_function: " + scene.shape_function.type + " spans " + std::to_string(shape.nodes[a]) +
+                  " nodes along axis " + std::to_string(a) + ", which has " +
+                  std::to_string(grid.nodes_per_axis()[a]));
+    shape.per_point += shape.nodes[a];
+  }
+  shape.stride = {1, grid.node_index(0, 1, 0), scene.dim == 3 ? grid.node_index(0, 0, 1) : 0};
   if (average_volumetric_rate_) {
     std::size_t cells = 1;
     for (int a = 0; a < scene.dim; ++a) cells *= static_cast<std::size_t>(scene.grid_cells[a]);
@@ -89,21 +97,47 @@ void Domain::locate_points(std::size_t step, double time) {
 
 void Domain::evaluate_shape(Interpolation& out) {
   const int D = dim();
-  const std::size_t n = points.size();
-  const int npp = shape.npp;
-  out.npp = npp;
-  out.ids.resize(n * npp);
-  out.weights.resize(n * npp);
-  out.gradients.resize(n * npp * D);
+  const std::size_t n = points.size(), F = static_cast<std::size_t>(shape.per_point);
+  if (&out == &shape) expanded_current_ = false;
+  out.per_point = shape.per_point, out.nodes = shape.nodes, out.stride = shape.stride;
+  out.first.resize(n);
+  out.weights.resize(n * F);
+  out.derivatives.resize(n * F);
   const auto xs = points.values(points.core().position);
   const auto sizes = points.values(points.core().size);
   exec.for_chunks(n, [&](int, std::size_t b, std::size_t e) {
     shape_function_->evaluate(grid, xs.subspan(b * D, (e - b) * D), sizes.subspan(b * D, (e - b) * D),
-                              std::span(out.ids).subspan(b * npp, (e - b) * npp),
-                              std::span(out.weights).subspan(b * npp, (e - b) * npp),
-                              std::span(out.gradients).subspan(b * npp * D, (e - b) * npp * D));
+                              std::span(out.first).subspan(b, e - b), std::span(out.weights).subspan(b * F, (e - b) * F),
+                              std::span(out.derivatives).subspan(b * F, (e - b) * F));
   });
-  exec.chunk_ranges(out.ids.data(), npp, n, out.chunks);
+  exec.chunk_ranges(out.first.data(), 1, n, out.chunks, out.view().extent());
+}
+
+const ExpandedSupports& Domain::expanded_shape() {
+  if (!expanded_current_) expand_supports(shape.view(), dim(), points.size(), expanded_);
+  expanded_current_ = true;
+  return expanded_;
+}
+
+void expand_supports(const PointSupports& s, int dim, std::size_t points, ExpandedSupports& out) {
+  const int npp = s.nodes_per_point();
+  out.npp = npp;
+  out.ids.resize(points * npp);
+  out.weights.resize(points * npp);
+  out.gradients.resize(points * npp * dim);
+  for (std::size_t p = 0; p < points; ++p) {
+    std::size_t q = p * npp;
+    auto put = [&](std::size_t node, double N, const double* grad) {
+      out.ids[q] = static_cast<NodeId>(node);
+      out.weights[q] = N;
+      for (int i = 0; i < dim; ++i) out.gradients[q * dim + i] = grad[i];
+      ++q;
+    };
+    if (dim == 2)
+      for_each_node<2>(s, p, put);
+    else
+      for_each_node<3>(s, p, put);
+  }
 }
 
 void Domain::locate_cells() {
@@ -130,8 +164,7 @@ void Domain::update_kinematics(double dt) {
   if (!average_volumetric_rate_) {  // one pass: L, strain and volume
     exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
       exec.vector_kernel(dim(), [&]<int D, int L>() {
-        velocity_gradient_kernel<D, true, L>(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(),
-                                             nodes.velocity.data(), points.data(f.velocity_gradient),
+        velocity_gradient_kernel<D, true, L>(b, e, dt, shape.view(), nodes.velocity.data(), points.data(f.velocity_gradient),
                                              points.data(f.strain), points.data(f.volume));
       });
     });
@@ -149,8 +182,8 @@ void Domain::update_velocity_gradient(double dt) {
   double* gradient = points.data(f.velocity_gradient);
   exec.for_chunks(points.size(), [&](int, std::size_t b, std::size_t e) {
     exec.vector_kernel(dim(), [&]<int D, int L>() {
-      velocity_gradient_kernel<D, false, L>(b, e, shape.npp, dt, shape.ids.data(), shape.gradients.data(),
-                                            nodes.velocity.data(), gradient, nullptr, nullptr);
+      velocity_gradient_kernel<D, false, L>(b, e, dt, shape.view(), nodes.velocity.data(), gradient, nullptr,
+                                            nullptr);
     });
   });
   if (!average_volumetric_rate_) return;

@@ -4,12 +4,14 @@
 // partition splits: each process a box of cells with its halo, and the points
 // inside it; the stages of the other parts reach grid and points only through
 // a Domain.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "executor.hpp"
+#include "point_supports.hpp"
 #include "suffuse/grid.hpp"
 #include "suffuse/phase.hpp"
 #include "suffuse/plugin.hpp"
@@ -26,13 +28,22 @@ struct BodyPoints {
   bool saturated;
 };
 
-// Node connectivity of every point for the current step: point p reaches
-// nodes ids[p*npp + a] with weights[p*npp + a] and gradients[(p*npp + a)*dim + i].
+// The shape functions of every point for the current step: per point its
+// support's first node, 1D weights and derivatives (point_supports.hpp).
 struct Interpolation {
-  int npp = 0;  // nodes per point
-  std::vector<NodeId> ids;
-  std::vector<double> weights, gradients;
+  std::vector<NodeId> first;
+  std::vector<double> weights, derivatives;
+  int per_point = 0;
+  std::array<int, 3> nodes{1, 1, 1};
+  std::array<std::int64_t, 3> stride{};
   ScatterRanges chunks;  // the nodes each scatter chunk touches, for every nodal scatter of the step
+  PointSupports view() const {
+    return {first.data(), weights.data(), derivatives.data(), per_point, nodes, stride};
+  }
+  // A scatter into nodal arrays of `entries` nodes through these supports.
+  ScatterTargets targets(std::size_t entries) const {
+    return ScatterTargets(first.data(), 1, entries, &chunks, view().extent());
+  }
 };
 
 class Domain {
@@ -51,6 +62,9 @@ class Domain {
   // Shape functions at the points' current positions, into `out` (the
   // step's own are in `shape`; outputs project with their own copy).
   void evaluate_shape(Interpolation& out);
+  // The step's shape functions written out node by node (the quasi-static
+  // solve's assembly reads them many times), made once per step on demand.
+  const ExpandedSupports& expanded_shape();
   // Stage "strain": velocity gradient L from the remapped nodal velocities
   // (its trace averaged over each cell's points where the scene asks for
   // it), strain += sym(L) dt, volume *= det(I + L dt).
@@ -74,6 +88,8 @@ class Domain {
   // the volume-weighted mean of its cell's (B-bar-like; removes the locking
   // of isochoric plastic flow on low-order shape functions).
   bool average_volumetric_rate_;
+  ExpandedSupports expanded_;
+  bool expanded_current_ = false;
   std::vector<NodeId> point_cell_;
   ScatterRanges point_cell_chunks_;
   std::vector<double> cell_volume_, cell_rate_;

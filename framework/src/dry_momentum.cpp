@@ -9,11 +9,11 @@ void DryMomentum::points_to_grid() {
   block_.assign(d_.grid.node_count() * static_cast<std::size_t>(dry_block), 0.0);
   const auto& f = d_.points.core();
   const Interpolation& s = d_.shape;
-  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
+  ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(block_);
   d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-      p2g_kernel<D, L>(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), d_.points.data(f.mass),
+      p2g_kernel<D, L>(b, e, s.view(), d_.points.data(f.mass),
                        d_.points.data(f.volume), d_.points.data(f.velocity), d_.points.data(f.stress),
                        gravity_.data(), mass_scaling_, out[0]);
     });
@@ -45,7 +45,7 @@ void DryMomentum::grid_to_points(double dt) {
   const Interpolation& s = d_.shape;
   d_.exec.for_chunks(d_.points.size(), [&](int, std::size_t b, std::size_t e) {
     d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-      g2p_kernel<D, false, L>(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(),
+      g2p_kernel<D, false, L>(b, e, dt, s.view(), d_.nodes.velocity.data(),
                               d_.nodes.acceleration.data(), d_.points.data(f.position),
                               d_.points.data(f.displacement), d_.points.data(f.velocity), nullptr, nullptr);
     });
@@ -57,11 +57,11 @@ void DryMomentum::remap() {
   std::fill(n.momentum.begin(), n.momentum.end(), 0.0);
   const auto& f = d_.points.core();
   const Interpolation& s = d_.shape;
-  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
+  ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(n.momentum);
   d_.exec.scatter(d_.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-      remap_kernel<D, L>(b, e, s.npp, s.ids.data(), s.weights.data(), d_.points.data(f.mass), mass_scaling_,
+      remap_kernel<D, L>(b, e, s.view(), d_.points.data(f.mass), mass_scaling_,
                          d_.points.data(f.velocity), out[0]);
     });
   });

@@ -30,18 +30,18 @@ struct ScatterRanges {
 };
 
 // The arrays one scatter adds into, and which of their entries each point
-// adds to: `per_point` indices per point in `index` (the shape functions'
-// node ids, or a point's cell), each naming an entry of every array (an
-// array holds size / entries values per entry: 1 for a mass, dim for a
-// momentum). `ranges`, if given, are those of Executor::chunk_ranges for
-// this index, computed once where the index is made (the shape functions'
-// serve every nodal scatter of a step).
+// adds to: `per_point` indices per point in `index` (a point's cell, or its
+// support's first node), each naming the entries [index, index + extent] of
+// every array (an array holds size / entries values per entry: 1 for a mass,
+// dim for a momentum). `ranges`, if given, are those of
+// Executor::chunk_ranges for this index, computed once where the index is
+// made (the shape functions' serve every nodal scatter of a step).
 class ScatterTargets {
  public:
   static constexpr int capacity = 16;
   ScatterTargets(const NodeId* index, int per_point, std::size_t entries,
-                 const ScatterRanges* ranges = nullptr)
-      : index_(index), per_point_(per_point), entries_(entries), ranges_(ranges) {}
+                 const ScatterRanges* ranges = nullptr, std::int64_t extent = 0)
+      : index_(index), per_point_(per_point), entries_(entries), ranges_(ranges), extent_(extent) {}
   void add(std::vector<double>& v) {
     if (count_ == capacity)
       throw Error("internal: a scatter into more than " + std::to_string(capacity) + " arrays");
@@ -63,12 +63,14 @@ class ScatterTargets {
   int per_point() const { return per_point_; }
   std::size_t entries() const { return entries_; }
   const ScatterRanges* ranges() const { return ranges_; }
+  std::int64_t extent() const { return extent_; }
 
  private:
   const NodeId* index_;
   int per_point_;
   std::size_t entries_;
   const ScatterRanges* ranges_;
+  std::int64_t extent_;
   std::array<double*, capacity> array_{};
   std::array<std::size_t, capacity> components_{};
   int count_ = 0;
@@ -137,7 +139,7 @@ class Executor {
       return;
     }
     const bool cached = targets.ranges() && targets.ranges()->points == points;
-    if (!cached) chunk_ranges(targets.index(), targets.per_point(), points, ranges_);
+    if (!cached) chunk_ranges(targets.index(), targets.per_point(), points, ranges_, targets.extent());
     const std::vector<ScatterRange>& ranges = cached ? targets.ranges()->chunks : ranges_.chunks;
     offsets_.resize(chunks);
     std::size_t total = 0;
@@ -184,8 +186,10 @@ class Executor {
     });
   }
 
-  // The entries each scatter chunk of `points` touches through `index`.
-  void chunk_ranges(const NodeId* index, int per_point, std::size_t points, ScatterRanges& out) {
+  // The entries each scatter chunk of `points` touches through `index`
+  // (each index reaching `extent` entries past itself).
+  void chunk_ranges(const NodeId* index, int per_point, std::size_t points, ScatterRanges& out,
+                    std::int64_t extent = 0) {
     const std::size_t chunk = scatter_chunk(points), chunks = (points + chunk - 1) / chunk;
     const std::size_t m = static_cast<std::size_t>(per_point);
     out.points = points;
@@ -200,7 +204,8 @@ class Executor {
           hi = std::max(hi, index[k]);
         }
         out.chunks[c] = hi < lo ? ScatterRange{}
-                                : ScatterRange{static_cast<std::size_t>(lo), static_cast<std::size_t>(hi) + 1};
+                                : ScatterRange{static_cast<std::size_t>(lo),
+                                               static_cast<std::size_t>(hi) + static_cast<std::size_t>(extent) + 1};
       }
     });
   }

@@ -9,7 +9,7 @@ namespace suffuse::detail {
 namespace {
 
 // field_I = sum_p N_Ip w_p f_p / sum_p N_Ip w_p; nodes no point reaches stay 0.
-void weighted_mean(const Interpolation& s, std::size_t n, const double* w, const double* f, int k, GridField& out,
+void weighted_mean(const ExpandedSupports& s, std::size_t n, const double* w, const double* f, int k, GridField& out,
                    std::vector<double>& weight) {
   std::fill(out.values.begin(), out.values.end(), 0.0);
   std::fill(weight.begin(), weight.end(), 0.0);
@@ -42,16 +42,17 @@ const std::vector<GridField>& GridProjection::project(Domain& d) {
     weight_.resize(nodes);
   }
   d.evaluate_shape(shape_);
+  expand_supports(shape_.view(), D, n, expanded_);
   const double* mass = d.points.data(core.mass);
   const double* volume = d.points.data(core.volume);
   const std::vector<double> ones(n, 1.0);
-  weighted_mean(shape_, n, mass, ones.data(), 1, fields_[0], weight_);
+  weighted_mean(expanded_, n, mass, ones.data(), 1, fields_[0], weight_);
   for (std::size_t I = 0; I < nodes; ++I) fields_[0].values[I] = weight_[I];  // the sum itself
-  weighted_mean(shape_, n, mass, d.points.data(core.velocity), D, fields_[1], weight_);
+  weighted_mean(expanded_, n, mass, d.points.data(core.velocity), D, fields_[1], weight_);
   if (mixture_) {
     const MixtureFields& m = *mixture_;
-    weighted_mean(shape_, n, d.points.data(m.liquid_mass), d.points.data(m.liquid_velocity), D, fields_[2], weight_);
-    weighted_mean(shape_, n, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
+    weighted_mean(expanded_, n, d.points.data(m.liquid_mass), d.points.data(m.liquid_velocity), D, fields_[2], weight_);
+    weighted_mean(expanded_, n, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
     fields_[4].values = *nodal_darcy_;
   }
   return fields_;

@@ -22,15 +22,15 @@ MemoryEstimate estimate_memory(const Scene& scene) {
   e.nodes = 1;
   for (int a = 0; a < D; ++a) e.nodes *= scene.grid_cells[a] + 1.0;
   // Per point: the fields (about 60 values in a saturated run with fines,
-  // 35 dry) and the shape functions of the step (up to 3^dim nodes, with an
-  // id, a weight and dim gradients each). Per node: the nodal arrays of both
+  // 35 dry) and the shape functions of the step (a first node and up to 3
+  // weights and 3 derivatives per axis). Per node: the nodal arrays of both
   // phases and the transport (about 17 dim + 26 values), and the scatter's
   // chunk sums over the largest scatter's arrays (the saturated one, 4 + 4
   // dim values): a chunk spans about a layer of cells, its buffer two to
   // three layers of nodes, so 1.7 to 3.9 times over when the points follow
   // the grid's order, as bodies are made (counted for 2D and 3D boxes, linear
   // and GIMP). Measured on the bench columns within 30%.
-  const double per_point = (scene.saturated() ? 60.0 : 35.0) + std::pow(3.0, D) * (2.0 + D);
+  const double per_point = (scene.saturated() ? 60.0 : 35.0) + 0.5 + 6.0 * D;
   const double per_node = 17.0 * D + 26.0 + 4.0 * (4.0 + 4.0 * D);
   e.bytes = 8.0 * (e.points * per_point + e.nodes * per_node);
   return e;

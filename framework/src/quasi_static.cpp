@@ -59,7 +59,7 @@ void QuasiStatic::prepare(double time, double dt) {
   const std::size_t nn = d_.grid.node_count();
   PointSet& pts = d_.points;
   const auto& c = pts.core();
-  const Interpolation& s = d_.shape;
+  const ExpandedSupports& s = d_.expanded_shape();
   const double* m = pts.data(c.mass);
   const double* V = pts.data(c.volume);
   const double* x = pts.data(c.position);
@@ -242,7 +242,7 @@ void QuasiStatic::prepare(double time, double dt) {
 void QuasiStatic::follow_tail_nodes() {
   if (tail_nodes_.empty()) return;
   const int dim = d_.dim();
-  const Interpolation& s = d_.shape;
+  const ExpandedSupports& s = d_.expanded_shape();
   const double* m = d_.points.data(d_.points.core().mass);
   for (const std::int64_t I : tail_nodes_) {
     tail_weight_[I] = 0;
@@ -286,7 +286,7 @@ double QuasiStatic::evaluate(double dt) {
 
   PointSet& pts = d_.points;
   const auto& c = pts.core();
-  const Interpolation& s = d_.shape;
+  const ExpandedSupports& s = d_.expanded_shape();
   const double* V = pts.data(c.volume);
   const double* sigma = pts.data(c.stress);
   const double* n = mixture_ ? pts.data(mixture_->fields().porosity) : nullptr;
@@ -496,7 +496,7 @@ void QuasiStatic::update_points(double dt) {
   d_.update_kinematics(dt);  // strain and volume; L as the last iteration had it
   PointSet& pts = d_.points;
   const auto& c = pts.core();
-  const Interpolation& s = d_.shape;
+  const ExpandedSupports& s = d_.expanded_shape();
   double* x = pts.data(c.position);
   double* u = pts.data(c.displacement);
   double* v = pts.data(c.velocity);

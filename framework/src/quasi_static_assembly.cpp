@@ -55,7 +55,7 @@ inline std::array<double, 3> padded(const double* g, int dim) {
 // and pair.
 void QuasiStatic::prepare_blocks() {
   const int dim = d_.dim();
-  const Interpolation& s = d_.shape;
+  const ExpandedSupports& s = d_.expanded_shape();
   const std::size_t np = d_.points.size();
   // The stencil: how far apart (in nodes, along any axis) two nodes of one point lie.
   int radius = 0;
@@ -96,7 +96,7 @@ void QuasiStatic::prepare_blocks() {
 void QuasiStatic::assemble(double dt) {
   const int dim = d_.dim();
   PointSet& pts = d_.points;
-  const Interpolation& s = d_.shape;
+  const ExpandedSupports& s = d_.expanded_shape();
   const double* V = pts.data(pts.core().volume);
   const double* n = mixture_ ? pts.data(mixture_->fields().porosity) : nullptr;
   const double* KL = mixture_ ? pts.data(mixture_->fields().bulk_modulus) : nullptr;

@@ -100,11 +100,11 @@ void SaturatedMixture::points_to_grid() {
                            pts.data(f_.liquid_velocity), pts.data(f_.moving_liquid_mass),
                            pts.data(f_.conductivity),  pts.data(f_.water_density)};
   const Interpolation& s = d_.shape;
-  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
+  ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-      p2g_saturated<D, L>(b, e, s.npp, s.ids.data(), s.weights.data(), s.gradients.data(), pt, gravity_.data(),
+      p2g_saturated<D, L>(b, e, s.view(), pt, gravity_.data(),
                           mass_scaling_, out[0]);
     });
   });
@@ -141,7 +141,7 @@ void SaturatedMixture::grid_to_points(double dt) {
   const Interpolation& s = d_.shape;
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
     d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-      g2p_kernel<D, true, L>(b, e, s.npp, dt, s.ids.data(), s.weights.data(), d_.nodes.velocity.data(),
+      g2p_kernel<D, true, L>(b, e, dt, s.view(), d_.nodes.velocity.data(),
                              d_.nodes.acceleration.data(), pts.data(c.position), pts.data(c.displacement),
                              pts.data(c.velocity), d_.nodes.liquid_acceleration.data(),
                              pts.data(f_.liquid_velocity));
@@ -156,11 +156,11 @@ void SaturatedMixture::remap() {
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
-  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
+  ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-      remap_two_phase<D, L>(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.mass),
+      remap_two_phase<D, L>(b, e, s.view(), pts.data(c.mass),
                             pts.data(f_.moving_liquid_mass), mass_scaling_, pts.data(c.velocity),
                             pts.data(f_.liquid_velocity), out[0]);
     });
@@ -193,7 +193,7 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
   auto porous = dim == 2 ? &porous_update<2> : &porous_update<3>;
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
     const std::size_t bad =
-        porous(b, e, s.npp, dt, s.ids.data(), s.gradients.data(), node_darcy_.data(), pts.data(c.velocity_gradient),
+        porous(b, e, dt, s.view(), node_darcy_.data(), pts.data(c.velocity_gradient),
                pts.data(f_.bulk_modulus), pts.data(c.velocity), pts.data(f_.liquid_velocity), pts.data(f_.porosity),
                pts.data(f_.porosity_increment), pts.data(f_.pressure_rate), pts.data(f_.darcy_flux));
     if (bad != e)
@@ -205,20 +205,20 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
   // interpolated back. Raw point rates carry the checkerboard modes of a
   // nearly incompressible mixture on linear cells (as in Anura3D).
   block_.assign(d_.grid.node_count() * 2, 0.0);
-  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
+  ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    d_.exec.vector_kernel(d_.dim(), [&]<int, int L>() {
-      p2g_pressure_rate<L>(b, e, s.npp, s.ids.data(), s.weights.data(), pts.data(c.volume), pts.data(f_.porosity),
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      p2g_pressure_rate<D, L>(b, e, s.view(), pts.data(c.volume), pts.data(f_.porosity),
                            pts.data(f_.pressure_rate), out[0]);
     });
   });
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
     nodal_pressure_rate(b, e, block_.data(), node_pressure_rate_.data());
   });
+  auto gather = d_.dim() == 2 ? &g2p_pressure<2> : &g2p_pressure<3>;
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    g2p_pressure(b, e, s.npp, dt, s.ids.data(), s.weights.data(), node_pressure_rate_.data(), pts.data(f_.porosity),
-                 pts.data(f_.pressure));
+    gather(b, e, dt, s.view(), node_pressure_rate_.data(), pts.data(f_.porosity), pts.data(f_.pressure));
   });
 }
 

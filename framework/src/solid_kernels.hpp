@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "lanes.hpp"
+#include "point_supports.hpp"
 #include "suffuse/grid.hpp"
 #include "suffuse/tensor.hpp"
 
@@ -55,7 +56,7 @@ inline double undamped(double damped_force, double velocity, double damping) {
 inline constexpr int dry_block = 8, dry_force = 4;
 
 template <int D, int L = 2>
-[[gnu::always_inline]] inline void p2g_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w, const double* dw,
+[[gnu::always_inline]] inline void p2g_kernel(std::size_t begin, std::size_t end, const PointSupports& s,
                 const double* mass, const double* volume, const double* vel, const double* stress,
                 const double* g, double scale, double* __restrict block) {
   constexpr int W = dry_block, vectors = W / L;
@@ -75,11 +76,8 @@ template <int D, int L = 2>
       A[v] = lanes_of<L>(a + v * L);
       for (int j = 0; j < D; ++j) G[j][v] = lanes_of<L>(B[j] + v * L);
     }
-    for (int k = 0; k < npp; ++k) {
-      const std::size_t q = p * npp + k;
-      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * W;
-      const double N = w[q];
-      const double* grad = dw + q * D;
+    for_each_node<D>(s, p, [&](std::size_t node, double N, const double* grad) {
+      double* __restrict o = block + node * W;
       for (int v = 0; v < vectors; ++v) {
         const int first = v * L, last = first + L;  // the lanes [first, last)
         if (first > D && last <= dry_force) continue;  // padding only
@@ -89,7 +87,7 @@ template <int D, int L = 2>
           for (int j = 0; j < D; ++j) f += G[j][v] * grad[j];
         add_lanes<L>(o + first, f);
       }
-    }
+    });
   }
 }
 
@@ -135,18 +133,17 @@ void acceleration_kernel(std::size_t begin, std::size_t end, double dt, const do
 // displacements from the nodal velocity. WithLiquid: the pore liquid's FLIP
 // velocity too, in the same pass over the points' nodes (the two-phase step).
 template <int D, bool WithLiquid = false, int L = 2>
-[[gnu::always_inline]] inline void g2p_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void g2p_kernel(std::size_t begin, std::size_t end, double dt, const PointSupports& s,
                 const double* node_vel, const double* node_acc, double* x, double* u, double* vel,
                 const double* node_liquid_acc = nullptr, double* liquid_vel = nullptr) {
   for (std::size_t p = begin; p < end; ++p) {
     WeightedSums<D, L> dv, vg, dvl;
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const std::size_t I = static_cast<std::size_t>(ids[k]) * D;
-      dv.add(node_acc + I, w[k]);
-      vg.add(node_vel + I, w[k]);
-      if constexpr (WithLiquid) dvl.add(node_liquid_acc + I, w[k]);
-    }
+    for_each_weight<D>(s, p, [&](std::size_t node, double N) {
+      const std::size_t I = node * D;
+      dv.add(node_acc + I, N);
+      vg.add(node_vel + I, N);
+      if constexpr (WithLiquid) dvl.add(node_liquid_acc + I, N);
+    });
     for (int i = 0; i < D; ++i) {
       vel[p * D + i] += dt * dv[i];
       x[p * D + i] += dt * vg[i];
@@ -157,15 +154,12 @@ template <int D, bool WithLiquid = false, int L = 2>
 }
 
 template <int D, int L = 2>
-[[gnu::always_inline]] inline void remap_kernel(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void remap_kernel(std::size_t begin, std::size_t end, const PointSupports& s,
                   const double* mass, double scale, const double* vel, double* node_mom) {
   for (std::size_t p = begin; p < end; ++p) {
     const double m = scale * mass[p];
     const WeightedValues<D, L> velocity(vel + p * D);
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      velocity.add_to(node_mom + static_cast<std::size_t>(ids[k]) * D, w[k] * m);
-    }
+    for_each_weight<D>(s, p, [&](std::size_t node, double N) { velocity.add_to(node_mom + node * D, N * m); });
   }
 }
 
@@ -183,16 +177,15 @@ void velocity_from_momentum(std::size_t begin, std::size_t end, const double* ma
 // volume *= det(I + L dt) in the same pass (strain_volume_kernel does it
 // after a change of L).
 template <int D, bool Integrate = true, int L = 2>
-[[gnu::always_inline]] inline void velocity_gradient_kernel(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids,
-                              const double* dw, const double* node_vel, double* L_field, double* strain,
+[[gnu::always_inline]] inline void velocity_gradient_kernel(std::size_t begin, std::size_t end, double dt,
+                              const PointSupports& s, const double* node_vel, double* L_field, double* strain,
                               double* volume) {
   for (std::size_t p = begin; p < end; ++p) {
     WeightedSums<D, L> column[D];  // column j: v_i dN/dx_j over i
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const double* v = node_vel + static_cast<std::size_t>(ids[k]) * D;
-      for (int j = 0; j < D; ++j) column[j].add(v, dw[k * D + j]);
-    }
+    for_each_gradient<D>(s, p, [&](std::size_t node, const double* grad) {
+      const double* v = node_vel + node * D;
+      for (int j = 0; j < D; ++j) column[j].add(v, grad[j]);
+    });
     double* Lp = L_field + p * D * D;
     for (int i = 0; i < D; ++i)
       for (int j = 0; j < D; ++j) Lp[i * D + j] = column[j][i];

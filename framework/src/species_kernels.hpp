@@ -14,6 +14,7 @@
 #include <limits>
 
 #include "lanes.hpp"
+#include "point_supports.hpp"
 #include "suffuse/grid.hpp"
 
 namespace suffuse::detail {
@@ -170,8 +171,8 @@ template <int L>
 // the point's amount.
 inline constexpr int species_block = 4;
 
-template <int L = 2>
-[[gnu::always_inline]] inline void p2g_species(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+template <int D, int L = 2>
+[[gnu::always_inline]] inline void p2g_species(std::size_t begin, std::size_t end, const PointSupports& s,
                  const double* volume, const double* n, const double* liquid, const double* fines,
                  const double* carrying, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -179,10 +180,7 @@ template <int L = 2>
     const double a[species_block] = {n[p] * volume[p], liquid[p], fines ? fines[p] : 0.0,
                                      carrying ? carrying[p] : 0.0};
     const WeightedValues<species_block, L> amounts(a);
-    for (int k = 0; k < npp; ++k) {
-      const std::size_t q = p * npp + k;
-      amounts.add_to(block + static_cast<std::size_t>(ids[q]) * species_block, w[q]);
-    }
+    for_each_weight<D>(s, p, [&](std::size_t node, double N) { amounts.add_to(block + node * species_block, N); });
   }
 }
 
@@ -432,8 +430,8 @@ inline void share_rates(std::size_t begin, std::size_t end, int species, const d
 }
 
 // Up to three species in one pass over the points' nodes (null: absent).
-template <int L = 2>
-[[gnu::always_inline]] inline void g2p_share(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+template <int D, int L = 2>
+[[gnu::always_inline]] inline void g2p_share(std::size_t begin, std::size_t end, const PointSupports& s,
                const double* volume, const double* n, const double* block, double* const (&amount)[3]) {
   constexpr int vectors = share_per_pore / L;
   const int count = amount[2] ? 3 : amount[1] ? 2 : 1;
@@ -444,13 +442,12 @@ template <int L = 2>
     for (int s = 0; s < count; ++s) held[s] = amount[s][p];
     Lanes<L> H[vectors], change[vectors] = {};
     for (int v = 0; v < vectors; ++v) H[v] = lanes_of<L>(held + v * L);
-    for (int k = 0; k < npp; ++k) {
-      const std::size_t q = p * npp + k;
-      const double* b = block + static_cast<std::size_t>(ids[q]) * share_block;
+    for_each_weight<D>(s, p, [&](std::size_t node, double N) {
+      const double* b = block + node * share_block;
       // One of the two rates is zero: the sum is the other term exactly.
       for (int v = 0; v < vectors; ++v)
-        change[v] += w[q] * (H[v] * load_lanes<L>(b + v * L) + pore * load_lanes<L>(b + share_per_pore + v * L));
-    }
+        change[v] += N * (H[v] * load_lanes<L>(b + v * L) + pore * load_lanes<L>(b + share_per_pore + v * L));
+    });
     for (int s = 0; s < count; ++s) amount[s][p] += change[s / L][s % L];
   }
 }

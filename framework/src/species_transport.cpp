@@ -272,13 +272,13 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   const double* n = pts.data(m_.porosity);
   const Interpolation& s = d_.shape;
   species_block_.assign(d_.grid.node_count() * species_block, 0.0);
-  ScatterTargets targets(s.ids.data(), s.npp, d_.grid.node_count(), &s.chunks);
+  ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(species_block_);
   const double* fines = fines_ ? pts.data(fines_->suspended_fines) : nullptr;
   const double* carrying = fines_ ? pts.data(fines_->carrying_liquid) : nullptr;
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    d_.exec.vector_kernel(d_.dim(), [&]<int, int L>() {
-      p2g_species<L>(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, pts.data(m_.liquid_mass), fines, carrying,
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      p2g_species<D, L>(b, e, s.view(), V, n, pts.data(m_.liquid_mass), fines, carrying,
                      out[0]);
     });
   });
@@ -337,8 +337,8 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   double* const amounts[3] = {pts.data(m_.liquid_mass), fines ? pts.data(fines_->suspended_fines) : nullptr,
                               fines ? pts.data(fines_->carrying_liquid) : nullptr};
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    d_.exec.vector_kernel(d_.dim(), [&]<int, int L>() {
-      g2p_share<L>(b, e, s.npp, s.ids.data(), s.weights.data(), V, n, share_block_.data(), amounts);
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      g2p_share<D, L>(b, e, s.view(), V, n, share_block_.data(), amounts);
       pore_liquid_density<L>(b, e, liquid);
     });
   });

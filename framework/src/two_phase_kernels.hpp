@@ -40,8 +40,8 @@ template <int D>
 inline constexpr int saturated_block = 4 + 4 * D;
 
 template <int D, int L = 2>
-[[gnu::always_inline]] inline void p2g_saturated(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
-                   const double* dw, const SaturatedPoints& pt, const double* g, double scale,
+[[gnu::always_inline]] inline void p2g_saturated(std::size_t begin, std::size_t end, const PointSupports& s,
+                   const SaturatedPoints& pt, const double* g, double scale,
                    double* __restrict block) {
   constexpr int W = saturated_block<D>, inertial = 4 + 2 * D;  // the sums without a gradient term
   constexpr int vectors = W / L, first_force_vector = inertial / L;
@@ -81,18 +81,15 @@ template <int D, int L = 2>
       A[v] = lanes_of<L>(a + v * L);
       for (int j = 0; j < D; ++j) G[j][v] = lanes_of<L>(B[j] + v * L);
     }
-    for (int k = 0; k < npp; ++k) {
-      const std::size_t q = p * npp + k;
-      double* __restrict o = block + static_cast<std::size_t>(ids[q]) * W;
-      const double N = w[q];
-      const double* grad = dw + q * D;
+    for_each_node<D>(s, p, [&](std::size_t node, double N, const double* grad) {
+      double* __restrict o = block + node * W;
       for (int v = 0; v < vectors; ++v) {
         Lanes<L> f = A[v] * N;
         if (v >= first_force_vector)
           for (int j = 0; j < D; ++j) f += G[j][v] * grad[j];
         add_lanes<L>(o + v * L, f);
       }
-    }
+    });
   }
 }
 
@@ -114,7 +111,7 @@ void unpack_saturated_block(std::size_t begin, std::size_t end, const double* bl
 // The MUSL remap of both phases' momenta in one pass, into one block of 2D
 // values per node: the solid's momentum, then the liquid's.
 template <int D, int L = 2>
-[[gnu::always_inline]] inline void remap_two_phase(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+[[gnu::always_inline]] inline void remap_two_phase(std::size_t begin, std::size_t end, const PointSupports& s,
                      const double* mass, const double* liquid_mass, double scale, const double* vel,
                      const double* liquid_vel, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
@@ -122,10 +119,7 @@ template <int D, int L = 2>
     for (int i = 0; i < D; ++i)
       a[i] = scale * mass[p] * vel[p * D + i], a[D + i] = scale * liquid_mass[p] * liquid_vel[p * D + i];
     const WeightedValues<2 * D, L> momenta(a);
-    for (int k = 0; k < npp; ++k) {
-      const std::size_t q = p * npp + k;
-      momenta.add_to(block + static_cast<std::size_t>(ids[q]) * 2 * D, w[q]);
-    }
+    for_each_weight<D>(s, p, [&](std::size_t node, double N) { momenta.add_to(block + node * 2 * D, N); });
   }
 }
 
@@ -162,18 +156,16 @@ void grid_update_saturated(std::size_t begin, std::size_t end, double dt, double
 // porosity fell to zero or below (grains are incompressible), or `end`.
 // Starts the step's porosity increment.
 template <int D>
-std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids, const double* dw,
-                   const double* node_q, const double* L, const double* bulk, const double* vs,
+std::size_t porous_update(std::size_t begin, std::size_t end, double dt, const PointSupports& s, const double* node_q, const double* L, const double* bulk, const double* vs,
                    const double* vl, double* n, double* porosity_increment, double* pressure_rate, double* darcy) {
   for (std::size_t p = begin; p < end; ++p) {
     // div q with the nodal Darcy flux: the porosity gradient counts (erosion
     // makes porosity vary), as in the transport.
     double div_q = 0;
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      const double* qI = node_q + static_cast<std::size_t>(ids[k]) * D;
-      for (int i = 0; i < D; ++i) div_q += qI[i] * dw[k * D + i];
-    }
+    for_each_gradient<D>(s, p, [&](std::size_t node, const double* grad) {
+      const double* qI = node_q + node * D;
+      for (int i = 0; i < D; ++i) div_q += qI[i] * grad[i];
+    });
     const double* l = L + p * D * D;
     double div_s = 0;
     for (int i = 0; i < D; ++i) div_s += l[i * D + i];
@@ -195,17 +187,14 @@ std::size_t porous_update(std::size_t begin, std::size_t end, int npp, double dt
 
 // Pressure smoothing, scatter half: volume-weighted nodal pressure rates,
 // into one block of two values per node (sum N V rate, sum N V).
-template <int L = 2>
-[[gnu::always_inline]] inline void p2g_pressure_rate(std::size_t begin, std::size_t end, int npp, const NodeId* ids, const double* w,
+template <int D, int L = 2>
+[[gnu::always_inline]] inline void p2g_pressure_rate(std::size_t begin, std::size_t end, const PointSupports& s,
                        const double* volume, const double* n, const double* rate, double* __restrict block) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // dry points neither give nor take pore pressure
     const double a[2] = {volume[p] * rate[p], volume[p]};
     const WeightedValues<2, L> rates(a);
-    for (int k = 0; k < npp; ++k) {
-      const std::size_t q = p * npp + k;
-      rates.add_to(block + static_cast<std::size_t>(ids[q]) * 2, w[q]);
-    }
+    for_each_weight<D>(s, p, [&](std::size_t node, double N) { rates.add_to(block + node * 2, N); });
   }
 }
 
@@ -216,15 +205,12 @@ inline void nodal_pressure_rate(std::size_t begin, std::size_t end, const double
 }
 
 // Gather half: each point's pressure grows by the interpolated nodal rate.
-inline void g2p_pressure(std::size_t begin, std::size_t end, int npp, double dt, const NodeId* ids,
-                         const double* w, const double* node_rate, const double* n, double* pressure) {
+template <int D>
+void g2p_pressure(std::size_t begin, std::size_t end, double dt, const PointSupports& s, const double* node_rate, const double* n, double* pressure) {
   for (std::size_t p = begin; p < end; ++p) {
     if (n[p] <= 0) continue;  // dry points keep p = 0
     double rate = 0;
-    for (int a = 0; a < npp; ++a) {
-      const std::size_t k = p * npp + a;
-      rate += w[k] * node_rate[ids[k]];
-    }
+    for_each_weight<D>(s, p, [&](std::size_t node, double N) { rate += N * node_rate[node]; });
     pressure[p] += rate * dt;
   }
 }

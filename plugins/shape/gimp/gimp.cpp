@@ -3,7 +3,7 @@
 // over the box. Weights and gradients are continuous when a point crosses a
 // cell face, which removes the cell-crossing noise of shape/linear.
 // Support: 3 nodes per axis (9 in 2D, 27 in 3D) while the half-size is at
-// most half a cell. Where a point's box reaches past the grid, the weight of
+// most half a cell (2 on an axis of one cell). Where a point's box reaches past the grid, the weight of
 // the missing node is lumped on the boundary node of that axis (a ghost node
 // moving with it), so the weights still sum to 1 and the gradients to 0: a
 // uniform flow through a grid face has no spurious divergence there.
@@ -30,23 +30,23 @@ inline void gimp_1d(double r, double h, double lp, double inv_h, double inv_hlp,
   ds = inside ? ds_inside : linear ? ds_linear : edge ? ds_edge : 0.0;
 }
 
-// Slot order: the first axis fastest (k = i + 3 j + 9 l), as the scatter
-// sums depend on it.
+// Per axis: the nearest node and its two neighbours, with the weight of a
+// node past the grid lumped on its neighbour towards the grid, then shifted
+// so that the support's three nodes (two on a one-cell axis) are all in the
+// grid: a node past the grid's edge is replaced by the node on the other side
+// of the support, with zero factors.
 template <int D>
-void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size, std::size_t n, NodeId* ids,
-                   double* w, double* dw) {
-  constexpr int npp = D == 2 ? 9 : 27;
+void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size, std::size_t n, NodeId* first,
+                   double* weights, double* derivatives) {
   const auto& o = grid.origin();
   const auto& h = grid.cell_size();
   const auto& nodes = grid.nodes_per_axis();
   const double inv_h[3] = {1 / h[0], 1 / h[1], 1 / h[2]};
-  const std::int64_t stride[3] = {1, grid.node_index(0, 1, 0), grid.node_index(0, 0, 1)};
+  int start[3] = {0, 0, 0};
+  double *s = weights, *ds = derivatives;
   for (std::size_t p = 0; p < n; ++p) {
-    double s1[3][3] = {}, d1[3][3] = {};
-    bool valid[3][3] = {{true, true, true}, {true, true, true}, {true, true, true}};
-    int node[3][3] = {};  // clamped to the grid: a missing node's slot names its neighbour, with weight 0
-    bool interior = true;
     for (int a = 0; a < D; ++a) {
+      double s1[3], d1[3];
       const double lp = std::min(0.5 * size[p * D + a], 0.5 * h[a]), inv_hlp = 1 / (h[a] * lp);
       const double xi = (x[p * D + a] - o[a]) * inv_h[a];
       // The nearest node and its two neighbours: floor(xi + 1/2), from a
@@ -56,64 +56,33 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
       const int t = static_cast<int>(c), base = t - (c < t ? 1 : 0) - 1;
       for (int k = 0; k < 3; ++k) {
         const int i = base + k;
-        gimp_1d(x[p * D + a] - (o[a] + i * h[a]), h[a], lp, inv_h[a], inv_hlp, s1[a][k], d1[a][k]);
+        gimp_1d(x[p * D + a] - (o[a] + i * h[a]), h[a], lp, inv_h[a], inv_hlp, s1[k], d1[k]);
       }
-      for (int k = 0; k < 3; ++k) node[a][k] = base + k;
-      if (base >= 0 && base + 2 < nodes[a]) continue;
-      interior = false;
-      for (int k = 0; k < 3; ++k) {
-        valid[a][k] = node[a][k] >= 0 && node[a][k] < nodes[a];
-        node[a][k] = std::clamp(node[a][k], 0, nodes[a] - 1);
+      const int m = std::min(3, nodes[a]);
+      if (base >= 0 && base + 2 < nodes[a]) {  // nearly every point
+        start[a] = base;
+        for (int k = 0; k < 3; ++k) s[k] = s1[k], ds[k] = d1[k];
+        s += m, ds += m;
+        continue;
       }
+      bool valid[3];
+      for (int k = 0; k < 3; ++k) valid[k] = base + k >= 0 && base + k < nodes[a];
       // Outermost first, so a weight passed inwards is passed on again if
       // the next node is missing too.
       for (int k : {0, 1, 2, 1}) {
-        if (valid[a][k] || (s1[a][k] == 0 && d1[a][k] == 0)) continue;
+        if (valid[k] || (s1[k] == 0 && d1[k] == 0)) continue;
         const int into = base + k < 0 ? k + 1 : k - 1;  // the neighbour towards the grid
-        s1[a][into] += s1[a][k];
-        d1[a][into] += d1[a][k];
-        s1[a][k] = d1[a][k] = 0;
+        s1[into] += s1[k];
+        d1[into] += d1[k];
+        s1[k] = d1[k] = 0;
       }
+      start[a] = std::clamp(base, 0, nodes[a] - m);
+      for (int k = 0; k < m; ++k) s[k] = ds[k] = 0;
+      for (int k = 0; k < 3; ++k)
+        if (valid[k]) s[base + k - start[a]] = s1[k], ds[base + k - start[a]] = d1[k];
+      s += m, ds += m;
     }
-    // The weight of slot (i, j, l) and its gradient, from the 1D factors.
-    const auto put = [&](std::size_t slot, int i, int j, int l) {
-      double* g = dw + slot * D;
-      if constexpr (D == 2) {
-        w[slot] = s1[0][i] * s1[1][j];
-        g[0] = d1[0][i] * s1[1][j];
-        g[1] = d1[1][j] * s1[0][i];
-      } else {
-        w[slot] = s1[0][i] * s1[1][j] * s1[2][l];
-        g[0] = d1[0][i] * s1[1][j] * s1[2][l];
-        g[1] = d1[1][j] * s1[0][i] * s1[2][l];
-        g[2] = d1[2][l] * s1[0][i] * s1[1][j];
-      }
-    };
-    std::size_t slot = p * npp;
-    constexpr int layers = D == 3 ? 3 : 1;
-    if (interior) {
-      // Every node of the support is in the grid (nearly every point): the
-      // ids step by the grid's strides, and no weight was lumped.
-      const std::int64_t first = grid.node_index(node[0][0], node[1][0], D == 3 ? node[2][0] : 0);
-      for (int l = 0; l < layers; ++l)
-        for (int j = 0; j < 3; ++j)
-          for (int i = 0; i < 3; ++i, ++slot) {
-            ids[slot] = first + i + j * stride[1] + l * stride[2];
-            put(slot, i, j, l);
-          }
-      continue;
-    }
-    for (int l = 0; l < layers; ++l)
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i, ++slot) {
-          ids[slot] = grid.node_index(node[0][i], node[1][j], D == 3 ? node[2][l] : 0);
-          if (valid[0][i] && valid[1][j] && (D == 2 || valid[2][l])) {
-            put(slot, i, j, l);
-          } else {
-            w[slot] = 0;
-            for (int a = 0; a < D; ++a) dw[slot * D + a] = 0;
-          }
-        }
+    first[p] = static_cast<NodeId>(grid.node_index(start[0], start[1], D == 3 ? start[2] : 0));
   }
 }
 
@@ -122,16 +91,18 @@ class GimpShape final : public suffuse::ShapeFunction {
   static suffuse::ParameterSchema schema() { return {}; }
   explicit GimpShape(const suffuse::PluginArgs&) {}
 
-  int nodes_per_point(int dim) const override { return dim == 2 ? 9 : 27; }
+  int support(int nodes) const override { return nodes < 3 ? nodes : 3; }
 
   void evaluate(const GridGeometry& grid, std::span<const double> positions, std::span<const double> sizes,
-                std::span<NodeId> node_ids, std::span<double> weights,
-                std::span<double> gradients) const override {
+                std::span<NodeId> first_nodes, std::span<double> weights,
+                std::span<double> derivatives) const override {
     const std::size_t n = positions.size() / grid.dim();
     if (grid.dim() == 2)
-      evaluate_gimp<2>(grid, positions.data(), sizes.data(), n, node_ids.data(), weights.data(), gradients.data());
+      evaluate_gimp<2>(grid, positions.data(), sizes.data(), n, first_nodes.data(), weights.data(),
+                       derivatives.data());
     else
-      evaluate_gimp<3>(grid, positions.data(), sizes.data(), n, node_ids.data(), weights.data(), gradients.data());
+      evaluate_gimp<3>(grid, positions.data(), sizes.data(), n, first_nodes.data(), weights.data(),
+                       derivatives.data());
   }
 };
 

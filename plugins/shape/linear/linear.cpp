@@ -10,43 +10,27 @@ namespace {
 using suffuse::GridGeometry;
 using suffuse::NodeId;
 
+// Per axis: the cell's two nodes, weights 1 - xi and xi, derivatives
+// -1/h and 1/h.
 template <int D>
-void evaluate_linear(const GridGeometry& grid, const double* x, std::size_t n, NodeId* ids, double* w,
+void evaluate_linear(const GridGeometry& grid, const double* x, std::size_t n, NodeId* first, double* w,
                      double* dw) {
-  constexpr int npp = 1 << D;
   const auto& o = grid.origin();
   const auto& h = grid.cell_size();
   const auto& cells = grid.cells();
   for (std::size_t p = 0; p < n; ++p) {
     int c[3] = {0, 0, 0};
-    double xi[D], inv_h[D];
+    double *s1 = w + p * 2 * D, *d1 = dw + p * 2 * D;
     for (int a = 0; a < D; ++a) {
       const double s = (x[p * D + a] - o[a]) / h[a];
       // A truncation is the floor here (s >= 0 up to round-off, and the
       // clamp takes care of that), without floor's library call.
       c[a] = std::clamp(static_cast<int>(s), 0, cells[a] - 1);
-      xi[a] = s - c[a];
-      inv_h[a] = 1.0 / h[a];
+      const double xi = s - c[a], inv_h = 1.0 / h[a];
+      s1[2 * a] = 1.0 - xi, s1[2 * a + 1] = xi;
+      d1[2 * a] = -inv_h, d1[2 * a + 1] = inv_h;
     }
-    for (int k = 0; k < npp; ++k) {
-      int off[3] = {k & 1, (k >> 1) & 1, (k >> 2) & 1};
-      double n1[D], d1[D];
-      for (int a = 0; a < D; ++a) {
-        n1[a] = off[a] ? xi[a] : 1.0 - xi[a];
-        d1[a] = (off[a] ? 1.0 : -1.0) * inv_h[a];
-      }
-      const std::size_t slot = p * npp + k;
-      ids[slot] = grid.node_index(c[0] + off[0], D > 1 ? c[1] + off[1] : 0, D > 2 ? c[2] + off[2] : 0);
-      double weight = 1;
-      for (int a = 0; a < D; ++a) weight *= n1[a];
-      w[slot] = weight;
-      for (int a = 0; a < D; ++a) {
-        double g = d1[a];
-        for (int b = 0; b < D; ++b)
-          if (b != a) g *= n1[b];
-        dw[slot * D + a] = g;
-      }
-    }
+    first[p] = static_cast<NodeId>(grid.node_index(c[0], D > 1 ? c[1] : 0, D > 2 ? c[2] : 0));
   }
 }
 
@@ -55,16 +39,16 @@ class LinearShape final : public suffuse::ShapeFunction {
   static suffuse::ParameterSchema schema() { return {}; }
   explicit LinearShape(const suffuse::PluginArgs&) {}
 
-  int nodes_per_point(int dim) const override { return 1 << dim; }
+  int support(int /*nodes*/) const override { return 2; }
 
   void evaluate(const GridGeometry& grid, std::span<const double> positions, std::span<const double> /*sizes*/,
-                std::span<NodeId> node_ids, std::span<double> weights,
-                std::span<double> gradients) const override {
+                std::span<NodeId> first_nodes, std::span<double> weights,
+                std::span<double> derivatives) const override {
     const std::size_t n = positions.size() / grid.dim();
     if (grid.dim() == 2)
-      evaluate_linear<2>(grid, positions.data(), n, node_ids.data(), weights.data(), gradients.data());
+      evaluate_linear<2>(grid, positions.data(), n, first_nodes.data(), weights.data(), derivatives.data());
     else
-      evaluate_linear<3>(grid, positions.data(), n, node_ids.data(), weights.data(), gradients.data());
+      evaluate_linear<3>(grid, positions.data(), n, first_nodes.data(), weights.data(), derivatives.data());
   }
 };
 
