@@ -203,4 +203,23 @@ TEST(ShapeFunctions, GimpOnAnAxisOfOneCell) {
   }
 }
 
+// A point a cell and a half or more past the grid (an output frame may
+// project one before the next step refuses it) reaches no node: zero
+// weights and gradients, its support still inside the grid.
+TEST(ShapeFunctions, GimpPointFarPastTheGridReachesNoNode) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
+  suffuse::Parameters none;
+  auto gimp = registry.create<suffuse::ShapeFunction>("shape/gimp", {none, 2, "/shape_function"});
+  const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
+  const std::vector<double> x = {-2.0, 2.0, 2.0, 6.1}, sizes(4, 1.0);
+  const auto [npp, ids, w, dw] = evaluate(*gimp, grid, x, sizes);
+  for (std::size_t q = 0; q < w.size(); ++q) {
+    EXPECT_EQ(w[q], 0.0);
+    EXPECT_EQ(dw[2 * q], 0.0);
+    EXPECT_EQ(dw[2 * q + 1], 0.0);
+  }
+}
+
 }  // namespace

@@ -9,17 +9,17 @@ namespace suffuse::detail {
 namespace {
 
 // field_I = sum_p N_Ip w_p f_p / sum_p N_Ip w_p; nodes no point reaches stay 0.
-void weighted_mean(const ExpandedSupports& s, std::size_t n, const double* w, const double* f, int k, GridField& out,
+template <int D>
+void weighted_mean(const PointSupports& s, std::size_t n, const double* w, const double* f, int k, GridField& out,
                    std::vector<double>& weight) {
   std::fill(out.values.begin(), out.values.end(), 0.0);
   std::fill(weight.begin(), weight.end(), 0.0);
   for (std::size_t p = 0; p < n; ++p)
-    for (int a = 0; a < s.npp; ++a) {
-      const double nw = s.weights[p * s.npp + a] * w[p];
-      const std::int64_t I = s.ids[p * s.npp + a];
+    for_each_weight<D>(s, p, [&](std::size_t I, double N) {
+      const double nw = N * w[p];
       weight[I] += nw;
       for (int c = 0; c < k; ++c) out.values[I * k + c] += nw * f[p * k + c];
-    }
+    });
   for (std::size_t I = 0; I < weight.size(); ++I)
     for (int c = 0; c < k; ++c) out.values[I * k + c] = weight[I] > 0 ? out.values[I * k + c] / weight[I] : 0.0;
 }
@@ -42,17 +42,18 @@ const std::vector<GridField>& GridProjection::project(Domain& d) {
     weight_.resize(nodes);
   }
   d.evaluate_shape(shape_);
-  expand_supports(shape_.view(), D, n, expanded_);
+  const auto mean = D == 2 ? &weighted_mean<2> : &weighted_mean<3>;
+  const PointSupports supports = shape_.view();
   const double* mass = d.points.data(core.mass);
   const double* volume = d.points.data(core.volume);
   const std::vector<double> ones(n, 1.0);
-  weighted_mean(expanded_, n, mass, ones.data(), 1, fields_[0], weight_);
+  mean(supports, n, mass, ones.data(), 1, fields_[0], weight_);
   for (std::size_t I = 0; I < nodes; ++I) fields_[0].values[I] = weight_[I];  // the sum itself
-  weighted_mean(expanded_, n, mass, d.points.data(core.velocity), D, fields_[1], weight_);
+  mean(supports, n, mass, d.points.data(core.velocity), D, fields_[1], weight_);
   if (mixture_) {
     const MixtureFields& m = *mixture_;
-    weighted_mean(expanded_, n, d.points.data(m.liquid_mass), d.points.data(m.liquid_velocity), D, fields_[2], weight_);
-    weighted_mean(expanded_, n, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
+    mean(supports, n, d.points.data(m.liquid_mass), d.points.data(m.liquid_velocity), D, fields_[2], weight_);
+    mean(supports, n, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
     fields_[4].values = *nodal_darcy_;
   }
   return fields_;

@@ -28,7 +28,6 @@ class GridProjection {
   const MixtureFields* mixture_;
   const std::vector<double>* nodal_darcy_;
   Interpolation shape_;
-  ExpandedSupports expanded_;
   std::vector<GridField> fields_;
   std::vector<double> weight_;
 };

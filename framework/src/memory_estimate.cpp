@@ -30,7 +30,10 @@ MemoryEstimate estimate_memory(const Scene& scene) {
   // three layers of nodes, so 1.7 to 3.9 times over when the points follow
   // the grid's order, as bodies are made (counted for 2D and 3D boxes, linear
   // and GIMP). Measured on the bench columns within 30%.
-  const double per_point = (scene.saturated() ? 60.0 : 35.0) + 0.5 + 6.0 * D;
+  double per_point = (scene.saturated() ? 60.0 : 35.0) + 0.5 + 6.0 * D;
+  // The quasi-static assembly reads the supports written out node by node
+  // (an id, a weight and dim gradients each).
+  if (scene.integration == TimeIntegration::quasi_static) per_point += std::pow(3.0, D) * (1.5 + D);
   const double per_node = 17.0 * D + 26.0 + 4.0 * (4.0 + 4.0 * D);
   e.bytes = 8.0 * (e.points * per_point + e.nodes * per_node);
   return e;

@@ -106,8 +106,9 @@ struct ErosionInputs {
   double *carrier_share, *carrier_concentration;
 };
 
-// Fills ErosionInputs at points [begin, end). Returns whether any of them
-// holds clean water beside the suspension (a carrier share below 1).
+// Fills ErosionInputs at points [begin, end) (pt.carrying_liquid must be
+// set: a run with fines tracks it). Returns whether any of them holds clean
+// water beside the suspension (a carrier share below 1).
 template <int D, int L>
 [[gnu::always_inline]] inline bool erosion_inputs(std::size_t begin, std::size_t end, const SpeciesPoints& pt,
                                                   const ErosionInputs& in) {

@@ -68,12 +68,13 @@ void evaluate_gimp(const GridGeometry& grid, const double* x, const double* size
       bool valid[3];
       for (int k = 0; k < 3; ++k) valid[k] = base + k >= 0 && base + k < nodes[a];
       // Outermost first, so a weight passed inwards is passed on again if
-      // the next node is missing too.
+      // the next node is missing too. A point a cell and a half or more past
+      // the grid (an output frame may project one) reaches no node: its
+      // weight has nowhere to go and is dropped.
       for (int k : {0, 1, 2, 1}) {
         if (valid[k] || (s1[k] == 0 && d1[k] == 0)) continue;
         const int into = base + k < 0 ? k + 1 : k - 1;  // the neighbour towards the grid
-        s1[into] += s1[k];
-        d1[into] += d1[k];
+        if (into >= 0 && into < 3) s1[into] += s1[k], d1[into] += d1[k];
         s1[k] = d1[k] = 0;
       }
       start[a] = std::clamp(base, 0, nodes[a] - m);
