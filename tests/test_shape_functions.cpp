@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <tuple>
@@ -11,6 +12,16 @@
 #include "point_supports.hpp"
 
 namespace {
+
+// The bundled plugins, loaded for as long as a shape function made from them lives.
+struct Bundled {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader{registry};
+  Bundled() { loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory()); }
+  std::unique_ptr<suffuse::ShapeFunction> shape(const std::string& name, int dim) {
+    return registry.create<suffuse::ShapeFunction>(name, {suffuse::Parameters{}, dim, "/shape_function"});
+  }
+};
 
 // A shape function's values at points, node by node as the core forms them
 // from the 1D factors (point_supports.hpp), after checking that every
@@ -52,11 +63,8 @@ class ShapeFunctions : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ShapeFunctions, PartitionOfUnityAndLinearReproduction) {
   const auto& [name, dim] = GetParam();
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
-  suffuse::Parameters none;
-  auto shape = registry.create<suffuse::ShapeFunction>(name, {none, dim, "/shape_function"});
+  Bundled plugins;
+  auto shape = plugins.shape(name, dim);
   const suffuse::GridGeometry grid(dim, {-1.0, 0.5, 2.0}, {0.3, 0.2, 0.7}, {7, 9, 4});
   for (int nodes : {2, 3, 8}) EXPECT_EQ(shape->support(nodes), name == "shape/linear" ? 2 : std::min(nodes, 3));
 
@@ -124,11 +132,8 @@ INSTANTIATE_TEST_SUITE_P(Plugins, ShapeFunctions,
 // GIMP weights are continuous when a point crosses a cell face; linear
 // gradients jump there (the cell-crossing error GIMP removes).
 TEST(ShapeFunctions, GimpIsContinuousAcrossCellFaces) {
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
-  suffuse::Parameters none;
-  auto gimp = registry.create<suffuse::ShapeFunction>("shape/gimp", {none, 2, "/shape_function"});
+  Bundled plugins;
+  auto gimp = plugins.shape("shape/gimp", 2);
   const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
   const double eps = 1e-9;
   const std::vector<double> x = {2 - eps, 1.5, 2 + eps, 1.5}, sizes = {0.5, 0.5, 0.5, 0.5};
@@ -151,11 +156,8 @@ TEST(ShapeFunctions, GimpIsContinuousAcrossCellFaces) {
 // the missing node's weight on the boundary node, so the weights still sum
 // to 1 and the gradients to 0 (a uniform flow has no divergence there).
 TEST(ShapeFunctions, GimpKeepsPartitionOfUnityAtTheGridBoundary) {
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
-  suffuse::Parameters none;
-  auto gimp = registry.create<suffuse::ShapeFunction>("shape/gimp", {none, 2, "/shape_function"});
+  Bundled plugins;
+  auto gimp = plugins.shape("shape/gimp", 2);
   const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
   // Points in the first and last half cells, boxes of half a cell; the last
   // two, boxes of a cell, have left the grid by more than half a cell, as a
@@ -182,11 +184,8 @@ TEST(ShapeFunctions, GimpKeepsPartitionOfUnityAtTheGridBoundary) {
 // On an axis of one cell (a column one cell wide) GIMP spans the axis's two
 // nodes, with the weight of the nodes past the grid lumped on them.
 TEST(ShapeFunctions, GimpOnAnAxisOfOneCell) {
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
-  suffuse::Parameters none;
-  auto gimp = registry.create<suffuse::ShapeFunction>("shape/gimp", {none, 2, "/shape_function"});
+  Bundled plugins;
+  auto gimp = plugins.shape("shape/gimp", 2);
   const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {1, 4, 1});
   const std::vector<double> x = {0.25, 0.3, 0.75, 2.6, 0.5, 3.7}, sizes(6, 0.5);
   const auto [npp, ids, w, dw] = evaluate(*gimp, grid, x, sizes);
@@ -207,11 +206,8 @@ TEST(ShapeFunctions, GimpOnAnAxisOfOneCell) {
 // project one before the next step refuses it) reaches no node: zero
 // weights and gradients, its support still inside the grid.
 TEST(ShapeFunctions, GimpPointFarPastTheGridReachesNoNode) {
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  loader.load_directory(suffuse::PluginLoader::bundled_plugin_directory());
-  suffuse::Parameters none;
-  auto gimp = registry.create<suffuse::ShapeFunction>("shape/gimp", {none, 2, "/shape_function"});
+  Bundled plugins;
+  auto gimp = plugins.shape("shape/gimp", 2);
   const suffuse::GridGeometry grid(2, {0, 0, 0}, {1, 1, 1}, {4, 4, 1});
   const std::vector<double> x = {-2.0, 2.0, 2.0, 6.1}, sizes(4, 1.0);
   const auto [npp, ids, w, dw] = evaluate(*gimp, grid, x, sizes);
