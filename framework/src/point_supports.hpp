@@ -98,7 +98,7 @@ template <int D, class F>
 }
 
 // The supports written out node by node (ids, weights, gradients), for the
-// parts that are not hot loops: the quasi-static assembly, output projection.
+// quasi-static assembly, which reads them many times per step.
 struct ExpandedSupports {
   int npp = 0;  // nodes per point
   std::vector<NodeId> ids;
