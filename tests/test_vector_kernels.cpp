@@ -1,7 +1,8 @@
 // The kernels written on lanes (lanes.hpp) against the scalar forms they
 // replaced, on random data, bit for bit: the scatters (dry and saturated
 // points to grid, both remaps, species, pressure rates), and the gathers
-// (grid to points, velocity gradient, the transport's shares), in 2D and 3D,
+// (grid to points, velocity gradient, the transport's shares), the porous
+// update (a gather, then a pass over points on lanes), in 2D and 3D,
 // with two lanes, with four lanes on the baseline (the AVX2 path's logic on
 // any machine) and on AVX2 where this machine has it (kernel_isa.hpp), with
 // some factors zero, as outside a support. Then the
@@ -237,6 +238,56 @@ void weighted_scalar(const Data<D>& d, int width, Amount a, double* block) {
     }
 }
 
+// The fields the porous update writes, from a Data's points.
+struct PorousFields {
+  std::vector<double> L, n, dn, rate, q;
+  template <int D>
+  PorousFields(const Data<D>& d, const std::vector<double>& gradient)
+      : L(gradient), n(d.n), dn(points, -1.0), rate(points, -1.0), q(d.liquid_vel) {
+    for (std::size_t p = 0; p < points; ++p) n[p] = d.n[p] > 0 ? 0.2 + 0.2 * d.n[p] : 0.0;  // dry where d's are
+  }
+  template <int D>
+  PorousPoints points_of(const Data<D>& d) {
+    return {L.data(), d.mass.data(), d.vel.data(), d.liquid_vel.data(), n.data(), dn.data(), rate.data(), q.data()};
+  }
+};
+
+// The porous update as it was before it ran on lanes (the bulk modulus:
+// d.mass; the nodal Darcy flux: d.node_a).
+template <int D>
+std::size_t porous_update_scalar(const Data<D>& d, std::size_t begin, std::size_t end, double dt, PorousFields& f) {
+  for (std::size_t p = begin; p < end; ++p) {
+    double div_q = 0;
+    for (int k = 0; k < d.npp; ++k) {
+      const std::size_t a = p * d.npp + k;
+      for (int i = 0; i < D; ++i) div_q += d.node_a[static_cast<std::size_t>(d.ids[a]) * D + i] * d.dw[a * D + i];
+    }
+    const double* l = f.L.data() + p * D * D;
+    double div_s = 0;
+    for (int i = 0; i < D; ++i) div_s += l[i * D + i];
+    double J;
+    if constexpr (D == 2) {
+      J = (1 + l[0] * dt) * (1 + l[3] * dt) - l[1] * l[2] * dt * dt;
+    } else {
+      const double a = 1 + l[0] * dt, b = l[1] * dt, c = l[2] * dt, e0 = l[3] * dt, e = 1 + l[4] * dt;
+      const double g0 = l[5] * dt, g = l[6] * dt, h = l[7] * dt, i = 1 + l[8] * dt;
+      J = a * (e * i - g0 * h) - b * (e0 * i - g0 * g) + c * (e0 * h - e * g);
+    }
+    const double n0 = f.n[p];
+    if (n0 <= 0) {
+      f.rate[p] = 0;
+      f.dn[p] = 0;
+      continue;
+    }
+    f.rate[p] = -d.mass[p] / n0 * (div_s + div_q);
+    f.n[p] = 1 - (1 - n0) / J;
+    f.dn[p] = f.n[p] - n0;
+    if (!(f.n[p] > 0)) return p;
+    for (int i = 0; i < D; ++i) f.q[p * D + i] = f.n[p] * (d.liquid_vel[p * D + i] - d.vel[p * D + i]);
+  }
+  return end;
+}
+
 // support: nodes per axis (2 x 2 (x 2) and 3 x 3 (x 3) run unrolled loops,
 // others the general one).
 template <int D>
@@ -366,6 +417,31 @@ void expect_each_kernel_is_its_scalar_form(std::array<int, 3> support) {
       g2p_share<D, L>(0, points, d.supports(), d.volume.data(), d.n.data(), block.data(), amounts);
     });
     for (int s = 0; s < 3; ++s) EXPECT_TRUE(same_bits(held[s], held2[s])) << "g2p_share, species " << s << on;
+    // The porous update (pressure rate, porosity, Darcy flux), on a range
+    // that leaves a group of lanes short, then with points compressed to a
+    // porosity of zero or below, of which the first must be named.
+    std::vector<double> gradient(points * D * D);
+    for (std::size_t k = 0; k < gradient.size(); ++k) gradient[k] = 30 * d.vel[k % (points * D)] * (k % 3 ? 1 : -1);
+    for (const bool compressed : {false, true}) {
+      PorousFields want(d, gradient), got = want;
+      if (compressed)
+        for (std::size_t p : {std::size_t{13}, std::size_t{14}, std::size_t{40}}) {
+          want.n[p] = got.n[p] = 0.3;
+          for (int i = 0; i < D; ++i) want.L[p * D * D + i * D + i] = got.L[p * D * D + i * D + i] = -500;
+        }
+      const std::size_t first_want = porous_update_scalar(d, 1, points - 1, dt, want);
+      std::size_t first_got = 0;
+      run<D>(isa, [&]<int, int L>() {
+        first_got = porous_update<D, L>(1, points - 1, dt, d.supports(), d.node_a.data(), got.points_of(d));
+      });
+      EXPECT_EQ(first_got, first_want) << "porous_update" << on;
+      EXPECT_EQ(first_got, compressed ? 13u : points - 1) << "porous_update" << on;
+      if (!compressed) {
+        EXPECT_TRUE(same_bits(want.n, got.n) && same_bits(want.dn, got.dn) && same_bits(want.rate, got.rate) &&
+                    same_bits(want.q, got.q))
+            << "porous_update" << on;
+      }
+    }
   }
 }
 

@@ -80,7 +80,18 @@ void Domain::locate_points(std::size_t step, double time) {
   const int D = dim();
   const std::size_t n = points.size();
   const double* x = points.data(points.core().position);
-  for (std::size_t p = 0; p < n; ++p) {
+  // A pass that counts without a call per point; the point is searched for
+  // only when one left.
+  double lower[3], upper[3];
+  for (int a = 0; a < D; ++a) lower[a] = grid.origin()[a], upper[a] = grid.upper(a);
+  auto count_outside = [&]<int Dim>() {
+    std::size_t count = 0;
+    for (std::size_t p = 0; p < n; ++p)
+      for (int a = 0; a < Dim; ++a) count += !(x[p * Dim + a] >= lower[a] && x[p * Dim + a] <= upper[a]);  // NaN too
+    return count;
+  };
+  const std::size_t outside = D == 2 ? count_outside.template operator()<2>() : count_outside.template operator()<3>();
+  for (std::size_t p = 0; outside && p < n; ++p) {
     if (grid.contains(x + p * D)) continue;
     std::string body;
     for (const BodyPoints& b : bodies)

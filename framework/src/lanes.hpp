@@ -143,7 +143,7 @@ template <class T>
   }
 }
 // The values of lane_count<T> consecutive points at p (stride 1), or of one
-// component of their vectors (stride S: p[0], p[S], ...).
+// component of their vectors (stride S: p[0], p[S], ...); store_at writes them.
 template <class T, int S = 1>
 [[gnu::always_inline]] inline T load_at(const double* p) {
   if constexpr (std::is_same_v<T, double>) {
@@ -156,12 +156,15 @@ template <class T, int S = 1>
     return v;
   }
 }
-template <class T>
+template <class T, int S = 1>
 [[gnu::always_inline]] inline void store_at(double* p, T v) {
-  if constexpr (std::is_same_v<T, double>)
+  if constexpr (std::is_same_v<T, double>) {
     *p = v;
-  else
+  } else if constexpr (S == 1) {
     std::memcpy(p, &v, sizeof v);
+  } else {
+    for (int l = 0; l < lane_count<T>; ++l) p[l * S] = v[l];
+  }
 }
 
 // Calls body.template operator()<T>(p) for p in [begin, end): T = Lanes<L>

@@ -190,12 +190,15 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
         node_darcy_[I * dim + i] = nI * (n.liquid_velocity[I * dim + i] - n.velocity[I * dim + i]);
     }
   });
-  auto porous = dim == 2 ? &porous_update<2> : &porous_update<3>;
+  const PorousPoints porous{pts.data(c.velocity_gradient), pts.data(f_.bulk_modulus),
+                            pts.data(c.velocity),          pts.data(f_.liquid_velocity),
+                            pts.data(f_.porosity),         pts.data(f_.porosity_increment),
+                            pts.data(f_.pressure_rate),    pts.data(f_.darcy_flux)};
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
-    const std::size_t bad =
-        porous(b, e, dt, s.view(), node_darcy_.data(), pts.data(c.velocity_gradient),
-               pts.data(f_.bulk_modulus), pts.data(c.velocity), pts.data(f_.liquid_velocity), pts.data(f_.porosity),
-               pts.data(f_.porosity_increment), pts.data(f_.pressure_rate), pts.data(f_.darcy_flux));
+    std::size_t bad = e;
+    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+      bad = porous_update<D, L>(b, e, dt, s.view(), node_darcy_.data(), porous);
+    });
     if (bad != e)
       throw Error("material point " + std::to_string(bad) + " was compressed to porosity " +
                   std::to_string(pts.data(f_.porosity)[bad]) + " at step " + std::to_string(step) + " (t = " +

@@ -15,15 +15,17 @@ namespace suffuse::detail {
 
 using tensor::voigt_index;  // xx yy zz yz xz xy
 
-// det(I + L dt) for a row-major D x D velocity gradient L: the volume ratio of a step.
-template <int D>
-double step_jacobian(const double* l, double dt) {
+// det(I + L dt) for a row-major D x D velocity gradient L: the volume ratio
+// of a step. On lanes (T = Lanes<L>), of the consecutive points from l on.
+template <int D, class T = double>
+[[gnu::always_inline]] inline T step_jacobian(const double* l, double dt) {
+  const auto c = [&](int k) { return load_at<T, D * D>(l + k); };
   if constexpr (D == 2) {
-    return (1 + l[0] * dt) * (1 + l[3] * dt) - l[1] * l[2] * dt * dt;
+    return (1.0 + c(0) * dt) * (1.0 + c(3) * dt) - c(1) * c(2) * dt * dt;
   } else {
-    const double a = 1 + l[0] * dt, b = l[1] * dt, c = l[2] * dt, d = l[3] * dt, e = 1 + l[4] * dt;
-    const double f = l[5] * dt, g = l[6] * dt, h = l[7] * dt, i = 1 + l[8] * dt;
-    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+    const T a = 1.0 + c(0) * dt, b = c(1) * dt, d0 = c(2) * dt, d = c(3) * dt, e = 1.0 + c(4) * dt;
+    const T f = c(5) * dt, g = c(6) * dt, h = c(7) * dt, i = 1.0 + c(8) * dt;
+    return a * (e * i - f * h) - b * (d * i - f * g) + d0 * (d * h - e * g);
   }
 }
 

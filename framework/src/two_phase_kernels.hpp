@@ -151,37 +151,61 @@ void grid_update_saturated(std::size_t begin, std::size_t end, double dt, double
   }
 }
 
+// The point fields of the porous update.
+struct PorousPoints {
+  const double* velocity_gradient;  // D x D per point, row-major
+  const double* bulk_modulus;       // the pore liquid's
+  const double* solid_velocity;     // D per point
+  const double* liquid_velocity;    // D per point
+  double* porosity;
+  double* porosity_increment;
+  double* pressure_rate;
+  double* darcy;                    // D per point
+};
+
 // After the skeleton's velocity gradient L (field) and volume are updated:
 // pore pressure rate, porosity and Darcy flux. Returns the first point whose
 // porosity fell to zero or below (grains are incompressible), or `end`.
-// Starts the step's porosity increment.
-template <int D>
-std::size_t porous_update(std::size_t begin, std::size_t end, double dt, const PointSupports& s, const double* node_q, const double* L, const double* bulk, const double* vs,
-                   const double* vl, double* n, double* porosity_increment, double* pressure_rate, double* darcy) {
+// Starts the step's porosity increment. A dry point (porosity 0) keeps its
+// porosity and Darcy flux, with no pressure rate. A gather, then a pass over
+// the points on lanes (two divisions per point).
+template <int D, int L = 2>
+[[gnu::always_inline]] inline std::size_t porous_update(std::size_t begin, std::size_t end, double dt,
+                                                        const PointSupports& s, const double* node_q,
+                                                        const PorousPoints& pt) {
+  // div q with the nodal Darcy flux: the porosity gradient counts (erosion
+  // makes porosity vary), as in the transport. Held in the pressure rate.
   for (std::size_t p = begin; p < end; ++p) {
-    // div q with the nodal Darcy flux: the porosity gradient counts (erosion
-    // makes porosity vary), as in the transport.
     double div_q = 0;
     for_each_gradient<D>(s, p, [&](std::size_t node, const double* grad) {
       const double* qI = node_q + node * D;
       for (int i = 0; i < D; ++i) div_q += qI[i] * grad[i];
     });
-    const double* l = L + p * D * D;
-    double div_s = 0;
-    for (int i = 0; i < D; ++i) div_s += l[i * D + i];
-    const double J = step_jacobian<D>(l, dt);
-    const double n0 = n[p];
-    if (n0 <= 0) {  // a dry point: no pore pressure, no porosity
-      pressure_rate[p] = 0;
-      porosity_increment[p] = 0;
-      continue;
-    }
-    pressure_rate[p] = -bulk[p] / n0 * (div_s + div_q);
-    n[p] = 1 - (1 - n0) / J;  // incompressible grains: solid volume is conserved
-    porosity_increment[p] = n[p] - n0;  // erosion adds its share later in the step
-    if (!(n[p] > 0)) return p;
-    for (int i = 0; i < D; ++i) darcy[p * D + i] = n[p] * (vl[p * D + i] - vs[p * D + i]);
+    pt.pressure_rate[p] = div_q;
   }
+  bool failed = false;
+  for_points_in_lanes<L>(begin, end, [&]<class T>(std::size_t p) {
+    const double* l = pt.velocity_gradient + p * D * D;
+    T div_s{};
+    for (int i = 0; i < D; ++i) div_s += load_at<T, D * D>(l + i * D + i);
+    const T J = step_jacobian<D, T>(l, dt);
+    const T n0 = load_at<T>(pt.porosity + p), div_q = load_at<T>(pt.pressure_rate + p);
+    const auto wet = n0 > T{};
+    const T n = 1.0 - (1.0 - n0) / J;  // incompressible grains: solid volume is conserved
+    store_at(pt.pressure_rate + p, pick(wet, -load_at<T>(pt.bulk_modulus + p) / n0 * (div_s + div_q), T{}));
+    store_at(pt.porosity + p, pick(wet, n, n0));
+    store_at(pt.porosity_increment + p, pick(wet, n - n0, T{}));  // erosion adds its share later in the step
+    for (int i = 0; i < D; ++i) {
+      double* q = pt.darcy + p * D + i;
+      const T relative = load_at<T, D>(pt.liquid_velocity + p * D + i) - load_at<T, D>(pt.solid_velocity + p * D + i);
+      store_at<T, D>(q, pick(wet, n * relative, load_at<T, D>(q)));
+    }
+    const T checked = pick(wet, n, splat<T>(1.0));  // fails !(n > 0), NaN too
+    failed = any_lane(checked <= T{}) || any_lane(checked != checked) || failed;
+  });
+  if (failed)
+    for (std::size_t p = begin; p < end; ++p)
+      if (pt.porosity_increment[p] != 0 && !(pt.porosity[p] > 0)) return p;  // a wet point: a dry one has no increment
   return end;
 }
 
