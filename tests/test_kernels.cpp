@@ -20,20 +20,22 @@ using suffuse::detail::ScatterTargets;
 // Ten arrays over 700 entries, with 1 to 3 values per entry (more arrays
 // than any stage scatters into); each point adds known amounts to two
 // entries near its neighbours' (as points that follow the grid do), so each
-// chunk's range starts and ends inside the arrays; in the second chunk every
-// 97th point adds to the first and the last entry instead (a chunk spanning
-// all).
+// chunk's range starts and ends inside the arrays. Spanning: in the second
+// chunk every 97th point adds to the first and the last entry instead (a
+// chunk spanning all), so the scatter takes its buffers; otherwise the even
+// chunks' ranges are disjoint, and so are the odd ones', and the chunks add
+// straight into the arrays.
 struct ScatterCase {
   static constexpr std::size_t entries = 700;
   std::vector<std::vector<double>> arrays;
   std::vector<suffuse::NodeId> index;
   std::size_t points;
-  explicit ScatterCase(std::size_t points) : points(points) {
+  explicit ScatterCase(std::size_t points, bool spanning = true) : points(points) {
     for (int k = 0; k < 10; ++k) arrays.emplace_back(entries * (1 + k % 3), 0.0);
     const std::size_t chunk = Executor::min_scatter_chunk;
     for (std::size_t p = 0; p < points; ++p) {
       const auto near = static_cast<std::int64_t>((p / 10) % entries);
-      const bool far = p / chunk == 1 && p % 97 == 0;
+      const bool far = spanning && p / chunk == 1 && p % 97 == 0;
       index.push_back(far ? 0 : near);
       index.push_back(far ? static_cast<std::int64_t>(entries) - 1 : (near + 1) % static_cast<std::int64_t>(entries));
     }
@@ -64,22 +66,31 @@ struct ScatterCase {
 
 // Every contribution arrives, and the sums are bit for bit the same for 1,
 // 2 and 3 threads, with the ranges given or not: in one chunk (500 points)
-// and in several (3.2 chunks, the first entry of most ranges above 0).
+// and in several (3.2 chunks, the first entry of most ranges above 0), with
+// buffers (a chunk spanning all) and without.
 TEST(Kernels, ScatterAddsEveryContributionTheSameForAnyThreadCount) {
-  for (std::size_t points : {std::size_t{500}, 3 * Executor::min_scatter_chunk + 501}) {
-    ScatterCase c(points);
-    std::vector<std::vector<double>> expected;
-    for (const auto& a : c.arrays) expected.emplace_back(a.size(), 0.0);
-    for (std::size_t p = 0; p < points; ++p)
-      for (std::size_t k = 0; k < expected.size(); ++k) c.add(p, k, expected[k].data());
-    const auto serial = c.run(1, false);
-    for (std::size_t k = 0; k < serial.size(); ++k)
-      for (std::size_t i = 0; i < serial[k].size(); ++i)
-        ASSERT_NEAR(serial[k][i], expected[k][i], 1e-12 * std::abs(expected[k][i]))
-            << points << " points, array " << k << ", entry " << i;
-    for (int threads : {1, 2, 3})
-      for (bool given : {false, true})
-        EXPECT_EQ(c.run(threads, given), serial) << points << " points, " << threads << " threads, ranges given " << given;
+  for (const bool spanning : {true, false}) {
+    for (std::size_t points : {std::size_t{500}, 3 * Executor::min_scatter_chunk + 501}) {
+      ScatterCase c(points, spanning);
+      suffuse::detail::ScatterRanges found;
+      Executor(1).chunk_ranges(c.index.data(), 2, points, found);
+      if (points > Executor::min_scatter_chunk) {
+        EXPECT_EQ(Executor::parities_are_disjoint(found.chunks), !spanning) << "the case must take the path it names";
+      }
+      std::vector<std::vector<double>> expected;
+      for (const auto& a : c.arrays) expected.emplace_back(a.size(), 0.0);
+      for (std::size_t p = 0; p < points; ++p)
+        for (std::size_t k = 0; k < expected.size(); ++k) c.add(p, k, expected[k].data());
+      const auto serial = c.run(1, false);
+      for (std::size_t k = 0; k < serial.size(); ++k)
+        for (std::size_t i = 0; i < serial[k].size(); ++i)
+          ASSERT_NEAR(serial[k][i], expected[k][i], 1e-12 * std::abs(expected[k][i]))
+              << points << " points, array " << k << ", entry " << i << ", spanning " << spanning;
+      for (int threads : {1, 2, 3})
+        for (bool given : {false, true})
+          EXPECT_EQ(c.run(threads, given), serial)
+              << points << " points, " << threads << " threads, ranges given " << given << ", spanning " << spanning;
+    }
   }
   // The chunks' ranges: the first one's near its points, the second's all.
   Executor exec(1);

@@ -126,11 +126,17 @@ class Executor {
   }
 
   // Runs kernel(begin, end, arrays) on chunks of scatter_chunk(points) points;
-  // `arrays` are the targets' data in the order they were added. The first
-  // chunk adds into the targets; every other one into a buffer over the
-  // entries its points touch (the points of a chunk are neighbours when they
-  // follow the grid's order, as bodies are made), zeroed first. The buffers
-  // are then added into the targets entry by entry in chunk order.
+  // `arrays` are the targets' data in the order they were added. Each chunk
+  // touches a range of entries (the points of a chunk are neighbours when
+  // they follow the grid's order, as bodies are made).
+  // - Where the ranges of the even chunks are disjoint, and so are those of
+  //   the odd ones (every chunk spans more than the support's width), the
+  //   even chunks add straight into the targets, in parallel, then the odd
+  //   ones: no buffer to zero and add.
+  // - Otherwise the first chunk adds into the targets and every other one
+  //   into a buffer over its range, zeroed first; the buffers are then added
+  //   into the targets entry by entry in chunk order.
+  // Either way the order of the sums is fixed by the points and the grid.
   template <class Kernel>
   void scatter(std::size_t points, const ScatterTargets& targets, Kernel&& kernel) {
     const std::size_t chunk = scatter_chunk(points), chunks = (points + chunk - 1) / chunk;
@@ -141,6 +147,14 @@ class Executor {
     const bool cached = targets.ranges() && targets.ranges()->points == points;
     if (!cached) chunk_ranges(targets.index(), targets.per_point(), points, ranges_, targets.extent());
     const std::vector<ScatterRange>& ranges = cached ? targets.ranges()->chunks : ranges_.chunks;
+    if (parities_are_disjoint(ranges)) {
+      for (std::size_t parity : {0, 1})
+        for_chunks((chunks + 1 - parity) / 2, [&](int, std::size_t kb, std::size_t ke) {
+          for (std::size_t c = 2 * kb + parity; c < 2 * ke + parity && c < chunks; c += 2)
+            kernel(c * chunk, std::min(points, (c + 1) * chunk), targets.arrays());
+        });
+      return;
+    }
     offsets_.resize(chunks);
     std::size_t total = 0;
     for (std::size_t c = 1; c < chunks; ++c) {
@@ -184,6 +198,14 @@ class Executor {
         }
       }
     });
+  }
+
+  // True when each chunk's range ends before the range of the chunk two on
+  // begins: no entry is touched by two even chunks or by two odd ones.
+  static bool parities_are_disjoint(const std::vector<ScatterRange>& ranges) {
+    for (std::size_t c = 2; c < ranges.size(); ++c)
+      if (ranges[c - 2].last > ranges[c].first) return false;
+    return true;
   }
 
   // The entries each scatter chunk of `points` touches through `index`
