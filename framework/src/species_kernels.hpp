@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include "lanes.hpp"
 #include "point_supports.hpp"
@@ -233,6 +234,20 @@ struct Transport {
     if (D > 2) c[2] = static_cast<int>(I / (static_cast<std::int64_t>(g.nodes[0]) * g.nodes[1]));
     return c;
   }
+  // body(n, ijk of n) for n in [begin, end): the coordinates counted on
+  // from the first node's, without two integer divisions per node.
+  template <class Body>
+  [[gnu::always_inline]] void for_nodes(std::size_t begin, std::size_t end, const Body& body) const {
+    if (begin >= end) return;
+    auto c = ijk(static_cast<std::int64_t>(begin));
+    for (std::size_t n = begin; n < end; ++n) {
+      body(n, std::as_const(c));
+      if (++c[0] == g.nodes[0]) {
+        c[0] = 0;
+        if (++c[1] == g.nodes[1] && D > 2) c[1] = 0, ++c[2];
+      }
+    }
+  }
   std::int64_t stride(int a) const {
     return a == 0 ? 1 : (a == 1 ? g.nodes[0] : static_cast<std::int64_t>(g.nodes[0]) * g.nodes[1]);
   }
@@ -244,16 +259,15 @@ struct Transport {
   // Pass 0: the volume of liquid crossing each face between I and I + e_a in
   // one step, positive towards I + e_a; zero unless both nodes hold liquid.
   void faces(std::size_t begin, std::size_t end) const {
-    for (std::size_t n = begin; n < end; ++n) {
+    for_nodes(begin, end, [&](std::size_t n, const std::array<int, 3>& c) {
       const auto I = static_cast<std::int64_t>(n);
-      const auto c = ijk(I);
       for (int a = 0; a < D; ++a) {
         double vol = 0;
         if (c[a] < g.nodes[a] - 1 && g.pore[I] > 0 && g.pore[I + stride(a)] > 0)
           vol = g.dt * face_area(c, a) * 0.5 * (darcy(I, a) + darcy(I + stride(a), a));
         g.face[n * D + a] = vol;
       }
-    }
+    });
   }
   double face_volume(std::int64_t I, int a, const std::array<int, 3>&) const { return g.face[I * D + a]; }
 
@@ -273,8 +287,7 @@ struct Transport {
 
   // Pass 1: volume leaving each node through its interior and free-surface faces.
   void outflow(std::size_t begin, std::size_t end, double* out) const {
-    for (std::size_t I = begin; I < end; ++I) {
-      const auto c = ijk(static_cast<std::int64_t>(I));
+    for_nodes(begin, end, [&](std::size_t I, const std::array<int, 3>& c) {
       double sum = 0;
       for (int a = 0; a < D; ++a) {
         if (c[a] < g.nodes[a] - 1) sum += std::max(0.0, face_volume(static_cast<std::int64_t>(I), a, c));
@@ -287,7 +300,7 @@ struct Transport {
       // Free-surface outflow takes the node's own mean (first order), not a
       // limited face value of up to four times it: it counts a quarter.
       out[I] = sum + 0.25 * free_surface_volume(static_cast<std::int64_t>(I), c);
-    }
+    });
   }
 
   // Share of its content a node may send this step: 1, or less when the
@@ -319,12 +332,10 @@ struct Transport {
 
   // Pass 3: what crosses each face between a node I and I + e_a.
   void flows(std::size_t begin, std::size_t end, const NodeShares& s) const {
-    for (std::size_t n = begin; n < end; ++n) {
-      const auto I = static_cast<std::int64_t>(n);
-      const auto c = ijk(I);
+    for_nodes(begin, end, [&](std::size_t n, const std::array<int, 3>& c) {
       for (int a = 0; a < D; ++a)
-        if (c[a] < g.nodes[a] - 1) face_transfer(I, a, c, s, s.flow + (n * D + a) * 3);
-    }
+        if (c[a] < g.nodes[a] - 1) face_transfer(static_cast<std::int64_t>(n), a, c, s, s.flow + (n * D + a) * 3);
+    });
   }
 
   // Liquid and fines crossing the face between I and I + e_a, positive
@@ -373,9 +384,8 @@ struct Transport {
   // its interior faces. Also writes what each node loses through free surfaces.
   void exchange(std::size_t begin, std::size_t end, const NodeShares& s, double* d_liquid, double* d_fines,
                 double* d_carrying, double* free_liquid, double* free_fines, double* free_carrying) const {
-    for (std::size_t n = begin; n < end; ++n) {
+    for_nodes(begin, end, [&](std::size_t n, const std::array<int, 3>& c) {
       const auto I = static_cast<std::int64_t>(n);
-      const auto c = ijk(I);
       double dl = 0, df = 0, dc = 0;
       for (int a = 0; a < D; ++a) {
         if (c[a] < g.nodes[a] - 1) {
@@ -407,7 +417,7 @@ struct Transport {
       d_liquid[n] = dl;
       d_fines[n] = df;
       d_carrying[n] = dc;
-    }
+    });
   }
 };
 
