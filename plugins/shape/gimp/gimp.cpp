@@ -44,8 +44,14 @@ struct AxisFactors {
   double s[3][block], ds[3][block];
 };
 
-__attribute__((target_clones("avx2", "default"))) void gimp_axis(const double* x, const double* size, std::size_t n,
-                                                                  double o, double h, double inv_h, AxisFactors& out) {
+#if defined(__x86_64__) && defined(__GNUC__)
+#define SUFFUSE_GIMP_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define SUFFUSE_GIMP_CLONES
+#endif
+
+SUFFUSE_GIMP_CLONES void gimp_axis(const double* x, const double* size, std::size_t n, double o, double h,
+                                   double inv_h, AxisFactors& out) {
   for (std::size_t j = 0; j < n; ++j) {
     const double lp = std::min(0.5 * size[j], 0.5 * h), inv_hlp = 1 / (h * lp);
     // The nearest node: floor(xi + 1/2), from a truncation without floor's
