@@ -104,12 +104,13 @@ TEST(Kernels, ScatterAddsEveryContributionTheSameForAnyThreadCount) {
   EXPECT_LT(ranges.chunks[2].last - ranges.chunks[2].first, ScatterCase::entries / 2);
 }
 
-// The chunk length follows the grid: a chunk spans about one layer of cells
-// (points over the cells along the last axis), never fewer than the minimum.
-TEST(Kernels, ScatterChunksSpanALayerOfCells) {
+// The chunk length follows the grid: a chunk spans about two layers of
+// cells (points over the cells along the last axis), never fewer points than
+// the minimum.
+TEST(Kernels, ScatterChunksSpanTwoLayersOfCells) {
   EXPECT_EQ(Executor(1, 40).scatter_chunk(640), Executor::min_scatter_chunk);
-  EXPECT_EQ(Executor(2, 40).scatter_chunk(3'200'000), 80'000u);
-  EXPECT_EQ(Executor(3, 40).scatter_chunk(3'200'001), 80'001u);
+  EXPECT_EQ(Executor(2, 40).scatter_chunk(3'200'000), 160'000u);
+  EXPECT_EQ(Executor(3, 40).scatter_chunk(3'200'001), 160'002u);
   EXPECT_EQ(Executor(1).scatter_chunk(100'000'000), Executor::min_scatter_chunk);
 }
 

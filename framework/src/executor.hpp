@@ -79,15 +79,17 @@ class ScatterTargets {
 class Executor {
  public:
   // Points per scatter chunk: at least min_scatter_chunk, and at least the
-  // points over the grid's layers (cells along its last axis), so that a
-  // chunk of points that follow the grid's order spans about one layer of
-  // cells. A chunk's buffer runs over the node numbers its points touch, at
+  // points of two of the grid's layers (cells along its last axis), so that
+  // a chunk of points that follow the grid's order spans about two layers of
+  // cells: more than a linear support, so that the chunks two apart touch
+  // no common node and the scatter needs no buffer (scatter). Otherwise a
+  // chunk's buffer runs over the node numbers its points touch, at
   // least two node layers in 3D and two rows in 2D: with shorter chunks the
   // buffers together would hold many copies of the nodal arrays. Fixed by
   // the points and the grid, whatever the thread count, so the sums are too.
   static constexpr std::size_t min_scatter_chunk = 2048;
   std::size_t scatter_chunk(std::size_t points) const {
-    return std::max(min_scatter_chunk, (points + layers_ - 1) / layers_);
+    return std::max(min_scatter_chunk, 2 * ((points + layers_ - 1) / layers_));
   }
 
   static constexpr std::size_t default_layers = std::numeric_limits<std::size_t>::max() / 2;

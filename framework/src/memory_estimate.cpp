@@ -26,10 +26,12 @@ MemoryEstimate estimate_memory(const Scene& scene) {
   // weights and 3 derivatives per axis). Per node: the nodal arrays of both
   // phases and the transport (about 17 dim + 26 values), and the scatter's
   // chunk sums over the largest scatter's arrays (the saturated one, 4 + 4
-  // dim values): a chunk spans about a layer of cells, its buffer two to
-  // three layers of nodes, so 1.7 to 3.9 times over when the points follow
-  // the grid's order, as bodies are made (counted for 2D and 3D boxes, linear
-  // and GIMP). Measured on the bench columns within 30%.
+  // dim values), counted as when a chunk spanned a layer of cells: its
+  // buffer two to three layers of nodes, so 1.7 to 3.9 times over when the
+  // points follow the grid's order, as bodies are made (counted for 2D and 3D
+  // boxes, linear and GIMP). Since chunks span two layers, most scenes
+  // scatter without buffers (Executor::scatter): an upper bound. Measured on
+  // the bench columns within 30%.
   double per_point = (scene.saturated() ? 60.0 : 35.0) + 0.5 + 6.0 * D;
   // The quasi-static assembly reads the supports written out node by node
   // (an id, a weight and dim gradients each).
