@@ -7,7 +7,6 @@
 //   suffuse plot --png OUT.png --x COLUMN --y COLUMN [options] FILE.csv [FILE.csv ...]
 //   suffuse plot profile|map|animate [options] RUN
 //   suffuse gradation PSD.csv [--json] [--png FILE.png]
-#include <malloc.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -38,6 +37,9 @@
 #include "gradation_command.hpp"
 #include "plot.hpp"
 #include "subcommand_options.hpp"
+#if __has_include(<malloc.h>)
+#include <malloc.h>  // glibc's mallopt
+#endif
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -554,7 +556,9 @@ int cmd_plot(int argc, char** argv) {
 // every processor running the program (threads of OpenMP and VTK): half of
 // the default column's output stage. Freed memory is now kept for reuse up
 // to 256 MB. Blocks of up to 32 MB come from the heap (glibc's own largest
-// default once it adapts), larger ones are mapped and returned at once.
+// default once it adapts), larger ones are mapped and returned at once. The
+// threads' own heaps (64 MB each) are then kept until the run ends: peak
+// memory is what a run holds anyway.
 void keep_freed_memory_for_reuse() {
 #ifdef M_TRIM_THRESHOLD
   mallopt(M_MMAP_THRESHOLD, 32 << 20);

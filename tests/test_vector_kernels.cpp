@@ -419,23 +419,26 @@ void expect_each_kernel_is_its_scalar_form(std::array<int, 3> support) {
     for (int s = 0; s < 3; ++s) EXPECT_TRUE(same_bits(held[s], held2[s])) << "g2p_share, species " << s << on;
     // The porous update (pressure rate, porosity, Darcy flux), on a range
     // that leaves a group of lanes short, then with points compressed to a
-    // porosity of zero or below, of which the first must be named.
+    // porosity of zero or below and one of NaN porosity, of which the first
+    // must be named.
     std::vector<double> gradient(points * D * D);
     for (std::size_t k = 0; k < gradient.size(); ++k) gradient[k] = 30 * d.vel[k % (points * D)] * (k % 3 ? 1 : -1);
     for (const bool compressed : {false, true}) {
       PorousFields want(d, gradient), got = want;
-      if (compressed)
+      if (compressed) {
         for (std::size_t p : {std::size_t{13}, std::size_t{14}, std::size_t{40}}) {
           want.n[p] = got.n[p] = 0.3;
           for (int i = 0; i < D; ++i) want.L[p * D * D + i * D + i] = got.L[p * D * D + i * D + i] = -500;
         }
+        want.n[9] = got.n[9] = std::numeric_limits<double>::quiet_NaN();  // not dry: a failure
+      }
       const std::size_t first_want = porous_update_scalar(d, 1, points - 1, dt, want);
       std::size_t first_got = 0;
       run<D>(isa, [&]<int, int L>() {
         first_got = porous_update<D, L>(1, points - 1, dt, d.supports(), d.node_a.data(), got.points_of(d));
       });
       EXPECT_EQ(first_got, first_want) << "porous_update" << on;
-      EXPECT_EQ(first_got, compressed ? 13u : points - 1) << "porous_update" << on;
+      EXPECT_EQ(first_got, compressed ? 9u : points - 1) << "porous_update" << on;
       if (!compressed) {
         EXPECT_TRUE(same_bits(want.n, got.n) && same_bits(want.dn, got.dn) && same_bits(want.rate, got.rate) &&
                     same_bits(want.q, got.q))

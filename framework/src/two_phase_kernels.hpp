@@ -190,17 +190,17 @@ template <int D, int L = 2>
     for (int i = 0; i < D; ++i) div_s += load_at<T, D * D>(l + i * D + i);
     const T J = step_jacobian<D, T>(l, dt);
     const T n0 = load_at<T>(pt.porosity + p), div_q = load_at<T>(pt.pressure_rate + p);
-    const auto wet = n0 > T{};
+    const auto dry = n0 <= T{};  // a NaN porosity is not dry: it fails below
     const T n = 1.0 - (1.0 - n0) / J;  // incompressible grains: solid volume is conserved
-    store_at(pt.pressure_rate + p, pick(wet, -load_at<T>(pt.bulk_modulus + p) / n0 * (div_s + div_q), T{}));
-    store_at(pt.porosity + p, pick(wet, n, n0));
-    store_at(pt.porosity_increment + p, pick(wet, n - n0, T{}));  // erosion adds its share later in the step
+    store_at(pt.pressure_rate + p, pick(dry, T{}, -load_at<T>(pt.bulk_modulus + p) / n0 * (div_s + div_q)));
+    store_at(pt.porosity + p, pick(dry, n0, n));
+    store_at(pt.porosity_increment + p, pick(dry, T{}, n - n0));  // erosion adds its share later in the step
     for (int i = 0; i < D; ++i) {
       double* q = pt.darcy + p * D + i;
       const T relative = load_at<T, D>(pt.liquid_velocity + p * D + i) - load_at<T, D>(pt.solid_velocity + p * D + i);
-      store_at<T, D>(q, pick(wet, n * relative, load_at<T, D>(q)));
+      store_at<T, D>(q, pick(dry, load_at<T, D>(q), n * relative));
     }
-    const T checked = pick(wet, n, splat<T>(1.0));  // fails !(n > 0), NaN too
+    const T checked = pick(dry, splat<T>(1.0), n);  // fails !(n > 0), NaN too
     failed = any_lane(checked <= T{}) || any_lane(checked != checked) || failed;
   });
   if (failed)
