@@ -27,6 +27,7 @@
 #include <string>
 #include <suffuse/element_test.hpp>
 #include <suffuse/error.hpp>
+#include <suffuse/parallel.hpp>
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/scene.hpp>
 #include <suffuse/simulation.hpp>
@@ -368,7 +369,6 @@ struct RunCommand {
 int cmd_run(const fs::path& scene_file, const RunCommand& command) {
   const fs::path& output = command.output;
   const int threads = command.threads;
-  const bool quiet = command.quiet;
 #ifndef SUFFUSE_HAVE_OPENMP
   if (threads != 1) throw suffuse::Error("--threads " + std::to_string(threads) + ": this build has no OpenMP");
 #endif
@@ -376,6 +376,8 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
   suffuse::PluginLoader loader(registry);
   const suffuse::Scene scene = suffuse::load_scene(scene_file, registry, loader);
   suffuse::Simulation sim(scene, registry, threads);
+  // On many processes the first one reports (docs/parallel.md).
+  const bool quiet = command.quiet || sim.process_rank() != 0;
 
   // Progress: on a terminal a bar on standard error, redrawn 4 times a second;
   // otherwise (a log file, a pipe) a plain line on standard output at every
@@ -385,7 +387,7 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
     std::cout << "suffuse " << suffuse::framework_version << ": " << scene_file.string() << "\n"
               << "  " << scene.dim << "D grid " << scene.grid_cells[0] << " x " << scene.grid_cells[1];
     if (scene.dim == 3) std::cout << " x " << scene.grid_cells[2];
-    std::cout << " cells, " << sim.points().size() << " material points, dt = " << sim.dt() << " s"
+    std::cout << " cells, " << sim.point_count() << " material points, dt = " << sim.dt() << " s"
               << (scene.integration == suffuse::TimeIntegration::quasi_static
                       ? " (quasi-static: the first step, then adaptive)"
                       : scene.dt ? " (fixed)" : " (automatic, cfl " + format_number(scene.cfl) + ")")
@@ -454,6 +456,7 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
   }
   const suffuse::RunSummary s = sim.run(options);
   if (terminal) std::fprintf(stderr, "\n");
+  if (s.interrupted && sim.process_rank() != 0) return 128 + stop_signal.load();
   if (s.interrupted) {
     const fs::path checkpoint = output / (scene.name + ".checkpoint");
     std::cerr << "suffuse: interrupted (signal " << stop_signal.load() << ") at t = " << s.simulated_time
@@ -467,7 +470,8 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
     std::cout << "done: " << s.steps << " steps to t = " << s.simulated_time << " s in "
               << format_duration(s.wall_seconds) << "; " << std::setprecision(3) << s.point_updates_per_second / 1e6
               << " million point updates per second (" << sim.threads() << (sim.threads() == 1 ? " thread, " : " threads, ")
-              << sim.kernels() << " kernels)\n"
+              << (sim.processes() > 1 ? std::to_string(sim.processes()) + " processes, " : "") << sim.kernels()
+              << " kernels)\n"
               << "  stage times [s]:";
     // The stages this run has (a dry run has no pore pressure, erosion or transport).
     const char* sep = " ";
@@ -481,10 +485,12 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
     // Peak resident memory of the process (program and libraries included),
     // over the points: issue 17's figure of memory per point.
     rusage usage{};
+    // On many processes: the first one's, over its own points.
     if (getrusage(RUSAGE_SELF, &usage) == 0 && sim.points().size() > 0)
-      std::cout << "  peak memory: " << std::setprecision(4) << usage.ru_maxrss / 1024.0 << " MB resident, "
-                << std::setprecision(3) << usage.ru_maxrss * 1024.0 / static_cast<double>(sim.points().size())
-                << " bytes per material point\n";
+      std::cout << "  peak memory: " << std::setprecision(4) << usage.ru_maxrss / 1024.0 << " MB resident"
+                << (sim.processes() > 1 ? " (first process)" : "") << ", " << std::setprecision(3)
+                << usage.ru_maxrss * 1024.0 / static_cast<double>(sim.points().size()) << " bytes per material point"
+                << (sim.processes() > 1 ? " of its own" : "") << "\n";
     if (scene.integration == suffuse::TimeIntegration::quasi_static)
       std::cout << "  equilibrium: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps; "
                 << s.halved_steps << " attempts halved\n";
@@ -570,6 +576,7 @@ void keep_freed_memory_for_reuse() {
 
 int main(int argc, char** argv) {
   keep_freed_memory_for_reuse();
+  const suffuse::ParallelProcesses processes(argc, argv);  // mpirun: docs/parallel.md
   try {
     // plot has options and a list of files of its own.
     if (argc >= 3 && std::string(argv[1]) == "plot" && suffuse::plot::is_field_plot_mode(argv[2]))
@@ -650,7 +657,14 @@ int main(int argc, char** argv) {
     std::cerr << "suffuse: unknown command '" << command << "'\n" << usage;
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "suffuse: error: " << e.what() << "\n";
-    return 1;
+    if (processes.size() == 1) {
+      std::cerr << "suffuse: error: " << e.what() << "\n";
+      return 1;
+    }
+    // The other processes may wait in an exchange this one will not join.
+    std::cerr << "suffuse: error (process " << processes.rank() << " of " << processes.size() << "): " << e.what()
+              << "\n";
+    processes.abort(1);
   }
+
 }

@@ -59,7 +59,10 @@ class HashedFile {
 }  // namespace
 
 void Simulation::save_checkpoint(const std::filesystem::path& file, const std::vector<std::size_t>& frames) const {
-  const PointSet& pts = domain_->points;
+  // Every process's points, in the serial run's order: the same file as a
+  // serial run's (the first process writes it).
+  const PointSet& pts = domain_->gathered_points();
+  if (!domain_->comm.root()) return;
   const SimulationClock::State clock = clock_.state();
   nlohmann::ordered_json h;
   h["suffuse_version"] = framework_version;

@@ -98,12 +98,47 @@ void Domain::locate_points(std::size_t step, double time) {
       if (p >= b.range.begin && p < b.range.end) body = b.name;
     std::ostringstream pos;
     for (int a = 0; a < D; ++a) pos << (a ? ", " : "") << x[p * D + a];
-    throw Error("material point " + std::to_string(p) + " of body '" + body + "' left the grid at step " +
+    throw Error("material point " + std::to_string(first_point_ + p) + " of body '" + body + "' left the grid at step " +
                 std::to_string(step) + " (t = " + std::to_string(time) + " s): position (" + pos.str() +
                 "); enlarge /grid or check the boundary conditions and the time step");
   }
   if (average_volumetric_rate_) locate_cells();
   evaluate_shape(shape);
+}
+
+void Domain::distribute_points() {
+  if (!comm.parallel()) return;
+  const std::size_t total = points.size(), chunk = exec.scatter_chunk(total), chunks = (total + chunk - 1) / chunk;
+  const auto rank = static_cast<std::size_t>(comm.rank()), size = static_cast<std::size_t>(comm.size());
+  const std::size_t begin = std::min(total, chunks * rank / size * chunk),
+                    end = std::min(total, chunks * (rank + 1) / size * chunk);
+  points.keep(begin, end);
+  for (BodyPoints& b : bodies) {
+    const std::size_t lo = std::clamp(b.range.begin, begin, end), hi = std::clamp(b.range.end, begin, end);
+    b.range = {lo - begin, hi - begin};
+  }
+  total_points_ = total;
+  first_point_ = begin;
+  exec.distribute(comm, total, begin, end - begin);
+}
+
+const PointSet& Domain::gathered_points() {
+  if (!comm.parallel()) return points;
+  if (!gathered_) {
+    gathered_ = std::make_unique<PointSet>(dim());
+    for (FieldId f = 0; f < points.field_count(); ++f) gathered_->add_field(points.info(f));
+    if (comm.root()) gathered_->append(total_points_);
+  }
+  const std::vector<std::size_t> counts = comm.all_counts(points.size());
+  std::vector<std::size_t> values(counts.size());
+  std::vector<double> all;
+  for (FieldId f = 0; f < points.field_count(); ++f) {
+    const auto m = static_cast<std::size_t>(points.components(f));
+    for (std::size_t r = 0; r < counts.size(); ++r) values[r] = counts[r] * m;
+    comm.gather_to_root(points.values(f), values, all);
+    if (comm.root()) std::copy(all.begin(), all.end(), gathered_->data(f));
+  }
+  return *gathered_;
 }
 
 void Domain::evaluate_shape(Interpolation& out) {

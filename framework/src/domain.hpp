@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "communicator.hpp"
 #include "executor.hpp"
 #include "point_supports.hpp"
 #include "suffuse/grid.hpp"
@@ -56,6 +57,19 @@ class Domain {
   // mass, initial stress, material id); returns their range.
   BodyPoints create_body(const BodySpec& body, double solid_density);
 
+  // A run on many processes: keeps this process's share of the points,
+  // whole scatter chunks of the serial run's numbering (docs/parallel.md),
+  // and each body's range within it. Call once the bodies are made.
+  void distribute_points();
+  // Points over every process, and the serial run's number of this
+  // process's first point.
+  std::size_t total_points() const { return total_points_ ? total_points_ : points.size(); }
+  std::size_t first_point() const { return first_point_; }
+  // Every process's points, in the serial run's order, on the first process
+  // (collective; the others get an empty set): what writers and checkpoints
+  // read. One process: `points` itself.
+  const PointSet& gathered_points();
+
   // Stage "shape": shape functions at the points' positions. Throws, naming
   // the point and its body, if a point left the grid.
   void locate_points(std::size_t step, double time);
@@ -73,6 +87,7 @@ class Domain {
   // try increments before one is accepted).
   void update_velocity_gradient(double dt);
 
+  Communicator comm;
   GridGeometry grid;
   NodeState nodes;
   PointSet points;
@@ -84,6 +99,8 @@ class Domain {
   void locate_cells();  // the cell of every point, at the start of the step
 
   std::unique_ptr<ShapeFunction> shape_function_;
+  std::size_t total_points_ = 0, first_point_ = 0;
+  std::unique_ptr<PointSet> gathered_;  // the first process's copy of every point, for outputs
   // /volumetric_strain "cell_average": each point's volumetric strain rate is
   // the volume-weighted mean of its cell's (B-bar-like; removes the locking
   // of isochoric plastic flow on low-order shape functions).

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "communicator.hpp"
 #include "kernel_isa.hpp"
 #include "suffuse/error.hpp"
 #include "suffuse/grid.hpp"
@@ -23,10 +24,12 @@ namespace suffuse::detail {
 struct ScatterRange {
   std::size_t first = 0, last = 0;
 };
-// Those of every chunk of `points` points (Executor::chunk_ranges).
+// Those of every chunk of `points` points (Executor::chunk_ranges); in a
+// run on many processes, `chunks` are this process's and `all` every
+// process's, in the serial run's chunk order.
 struct ScatterRanges {
   std::size_t points = 0;
-  std::vector<ScatterRange> chunks;
+  std::vector<ScatterRange> chunks, all;
 };
 
 // The arrays one scatter adds into, and which of their entries each point
@@ -89,6 +92,7 @@ class Executor {
   // the points and the grid, whatever the thread count, so the sums are too.
   static constexpr std::size_t min_scatter_chunk = 2048;
   std::size_t scatter_chunk(std::size_t points) const {
+    if (comm_) points = total_points_;  // the serial run's chunks
     return std::max(min_scatter_chunk, 2 * ((points + layers_ - 1) / layers_));
   }
 
@@ -98,6 +102,17 @@ class Executor {
 
   int threads() const { return threads_; }
   KernelIsa isa() const { return isa_; }
+
+  // A run on many processes: this one holds the points [first, first +
+  // local) of the serial run's `total`, whole scatter chunks of it (first is
+  // a multiple of scatter_chunk(total)). Collective: every process calls it.
+  void distribute(const Communicator& comm, std::size_t total, std::size_t first, std::size_t local) {
+    comm_ = &comm;
+    total_points_ = total;
+    const std::size_t chunk = scatter_chunk(total);
+    first_chunk_ = first / chunk;
+    chunks_of_rank_ = comm.all_counts((local + chunk - 1) / chunk);
+  }
 
   // kernel.template operator()<D, L>() for dimension `dim` on this run's
   // instruction set (kernel_isa.hpp): for the kernels written on Lanes<L>.
@@ -141,6 +156,10 @@ class Executor {
   // Either way the order of the sums is fixed by the points and the grid.
   template <class Kernel>
   void scatter(std::size_t points, const ScatterTargets& targets, Kernel&& kernel) {
+    if (comm_) {
+      scatter_across_processes(points, targets, kernel);
+      return;
+    }
     const std::size_t chunk = scatter_chunk(points), chunks = (points + chunk - 1) / chunk;
     if (chunks <= 1) {
       if (points > 0) kernel(std::size_t{0}, points, targets.arrays());
@@ -218,7 +237,7 @@ class Executor {
     const std::size_t m = static_cast<std::size_t>(per_point);
     out.points = points;
     out.chunks.resize(chunks);
-    if (chunks <= 1) return;  // one chunk adds into the targets: no range needed
+    if (chunks <= 1 && !comm_) return;  // one chunk adds into the targets: no range needed
     for_chunks(chunks, [&](int, std::size_t cb, std::size_t ce) {
       for (std::size_t c = cb; c < ce; ++c) {
         NodeId lo = std::numeric_limits<NodeId>::max(), hi = -1;
@@ -232,9 +251,146 @@ class Executor {
                                                static_cast<std::size_t>(hi) + static_cast<std::size_t>(extent) + 1};
       }
     });
+    if (comm_) gather_ranges(out);
   }
 
  private:
+  // Every process's chunk ranges, in chunk order (node numbers are exact in
+  // doubles up to 2^53).
+  void gather_ranges(ScatterRanges& out) {
+    send_.clear();
+    for (const ScatterRange& r : out.chunks) {
+      send_.push_back(static_cast<double>(r.first));
+      send_.push_back(static_cast<double>(r.last));
+    }
+    std::vector<std::size_t> counts(chunks_of_rank_.size());
+    for (std::size_t r = 0; r < counts.size(); ++r) counts[r] = 2 * chunks_of_rank_[r];
+    comm_->all_gather(send_, counts, received_);
+    out.all.resize(received_.size() / 2);
+    for (std::size_t c = 0; c < out.all.size(); ++c)
+      out.all[c] = {static_cast<std::size_t>(received_[2 * c]), static_cast<std::size_t>(received_[2 * c + 1])};
+  }
+
+  // The scatter of a run on many processes, each holding whole chunks of
+  // the serial run's: each node's sum is formed in the serial run's order.
+  // - Disjoint parities: the even chunks add into the targets, and each
+  //   process sends the entries of its even chunks to every other (no two
+  //   even chunks share one); then the odd chunks, the same way.
+  // - Otherwise: chunk 0 adds into the targets, every other chunk into a
+  //   buffer of its own; then every process has chunk 0's entries and every
+  //   buffer, and adds the buffers in chunk order, as the serial run does.
+  template <class Kernel>
+  void scatter_across_processes(std::size_t points, const ScatterTargets& targets, Kernel& kernel) {
+    const std::size_t chunk = scatter_chunk(points), mine = (points + chunk - 1) / chunk;
+    const bool cached = targets.ranges() && targets.ranges()->points == points && !targets.ranges()->all.empty();
+    if (!cached) chunk_ranges(targets.index(), targets.per_point(), points, ranges_, targets.extent());
+    const std::vector<ScatterRange>& all = cached ? targets.ranges()->all : ranges_.all;
+    const std::size_t first = first_chunk_, chunks = all.size(), width = targets.components_total();
+    auto run = [&](std::size_t c, double* const* arrays) {
+      const std::size_t local = c - first;
+      kernel(local * chunk, std::min(points, (local + 1) * chunk), arrays);
+    };
+    // Every process's values of the entries of the chosen chunks, from their
+    // owners to all; `take` receives each other process's chunk and its values.
+    auto share = [&](auto chosen, auto&& pack, auto&& take) {
+      send_.clear();
+      for (std::size_t c = first; c < first + mine; ++c)
+        if (chosen(c)) pack(c);
+      std::vector<std::size_t> counts(chunks_of_rank_.size(), 0);
+      for (std::size_t r = 0, c = 0; r < counts.size(); ++r)
+        for (std::size_t end = c + chunks_of_rank_[r]; c < end; ++c)
+          if (chosen(c)) counts[r] += (all[c].last - all[c].first) * width;
+      comm_->all_gather(send_, counts, received_);
+      const double* from = received_.data();
+      for (std::size_t c = 0; c < chunks; ++c) {
+        if (!chosen(c)) continue;
+        take(c, from);
+        from += (all[c].last - all[c].first) * width;
+      }
+    };
+    auto pack_targets = [&](std::size_t c) {
+      for (int k = 0; k < targets.count(); ++k) {
+        const std::size_t m = targets.components(k);
+        const double* v = targets.arrays()[k];
+        send_.insert(send_.end(), v + all[c].first * m, v + all[c].last * m);
+      }
+    };
+    auto set_targets = [&](std::size_t c, const double* from) {
+      if (c >= first && c < first + mine) return;  // in place already
+      for (int k = 0; k < targets.count(); ++k) {
+        const std::size_t m = targets.components(k), n = (all[c].last - all[c].first) * m;
+        std::copy(from, from + n, targets.arrays()[k] + all[c].first * m);
+        from += n;
+      }
+    };
+    if (parities_are_disjoint(all)) {
+      for (std::size_t parity : {0, 1}) {
+        const std::size_t begin = first + ((first % 2 == parity) ? 0 : 1);
+        const std::size_t count = begin < first + mine ? (first + mine - begin + 1) / 2 : 0;
+        for_chunks(count, [&](int, std::size_t kb, std::size_t ke) {
+          for (std::size_t k = kb; k < ke; ++k) run(begin + 2 * k, targets.arrays());
+        });
+        share([&](std::size_t c) { return c % 2 == parity; }, pack_targets, set_targets);
+      }
+      return;
+    }
+    offsets_.assign(chunks + 1, 0);
+    for (std::size_t c = 1; c < chunks; ++c) offsets_[c + 1] = offsets_[c] + (all[c].last - all[c].first) * width;
+    if (buffer_.size() < offsets_[chunks]) buffer_.resize(offsets_[chunks]);
+    // Each chunk's buffer at the place it has among all chunks' buffers, the
+    // arrays one after another, each indexed by entry as the targets are.
+    auto parts = [&](std::size_t c) {
+      std::array<double*, ScatterTargets::capacity> part{};
+      double* next = buffer_.data() + offsets_[c];
+      for (int k = 0; k < targets.count(); ++k) {
+        part[k] = next - all[c].first * targets.components(k);
+        next += (all[c].last - all[c].first) * targets.components(k);
+      }
+      return part;
+    };
+    for_chunks(mine, [&](int, std::size_t kb, std::size_t ke) {
+      for (std::size_t c = first + kb; c < first + ke; ++c) {
+        if (c == 0) {
+          run(c, targets.arrays());
+          continue;
+        }
+        std::fill(buffer_.data() + offsets_[c], buffer_.data() + offsets_[c + 1], 0.0);
+        run(c, parts(c).data());
+      }
+    });
+    share([](std::size_t) { return true; },
+          [&](std::size_t c) {
+            if (c == 0) {
+              pack_targets(c);
+            } else {
+              send_.insert(send_.end(), buffer_.data() + offsets_[c], buffer_.data() + offsets_[c + 1]);
+            }
+          },
+          [&](std::size_t c, const double* from) {
+            if (c == 0) {
+              set_targets(c, from);
+            } else if (c < first || c >= first + mine) {
+              std::copy(from, from + (offsets_[c + 1] - offsets_[c]), buffer_.data() + offsets_[c]);
+            }
+          });
+    for_chunks(targets.entries(), [&](int, std::size_t eb, std::size_t ee) {
+      for (std::size_t c = 1; c < chunks; ++c) {
+        const std::size_t lo = std::max(eb, all[c].first), hi = std::min(ee, all[c].last);
+        if (lo >= hi) continue;
+        const auto part = parts(c);
+        for (int k = 0; k < targets.count(); ++k) {
+          const std::size_t m = targets.components(k);
+          double* out = targets.arrays()[k];
+          for (std::size_t i = lo * m; i < hi * m; ++i) out[i] += part[k][i];
+        }
+      }
+    });
+  }
+
+  const Communicator* comm_ = nullptr;  // a run on many processes; null: one
+  std::size_t total_points_ = 0, first_chunk_ = 0;
+  std::vector<std::size_t> chunks_of_rank_;
+  std::vector<double> send_, received_;  // exchanges between processes
   int threads_;
   std::size_t layers_;
   KernelIsa isa_;
@@ -243,12 +399,5 @@ class Executor {
   std::vector<std::size_t> offsets_;        // per scatter chunk: where its buffer starts
   std::vector<double> buffer_;              // the chunks' sums, grown on first use only
 };
-
-// Global reductions. Every total over the whole domain (the mass ledger, the
-// total mass and momentum, the stable time step) goes through one of these:
-// in a later MPI partition they become the sums and minima across processes.
-// (The run summary's point count will need one too.)
-inline double global_sum(double local) { return local; }
-inline double global_min(double local) { return local; }
 
 }  // namespace suffuse::detail

@@ -56,10 +56,10 @@ MassLedger SpeciesTransport::mass_ledger(double time) const {
     l.eroded += eroded[p];
   }
   for (double* total : {&l.solid, &l.liquid, &l.skeleton_fines, &l.suspended_fines, &l.eroded})
-    *total = global_sum(*total);
+    *total = d_.comm.sum(*total);
+  // What crossed the boundaries is summed over nodes, which every process
+  // holds whole (communicator.hpp): the same total on each already.
   l.boundaries = discharge_;
-  for (BoundaryDischarge& d : l.boundaries)
-    for (double* total : {&d.liquid_out, &d.liquid_in, &d.fines_out, &d.fines_in}) *total = global_sum(*total);
   return l;
 }
 

@@ -60,4 +60,17 @@ std::size_t PointSet::append(std::size_t count) {
   return first;
 }
 
+void PointSet::keep(std::size_t begin, std::size_t end) {
+  if (begin > end || end > size_)
+    throw Error("internal: keeping points [" + std::to_string(begin) + ", " + std::to_string(end) + ") of " +
+                std::to_string(size_));
+  for (Field& f : fields_) {
+    const auto m = static_cast<std::size_t>(f.components);
+    std::vector<double> kept(f.data.begin() + static_cast<std::ptrdiff_t>(begin * m),
+                             f.data.begin() + static_cast<std::ptrdiff_t>(end * m));
+    f.data.swap(kept);
+  }
+  size_ = end - begin;
+}
+
 }  // namespace suffuse

@@ -26,7 +26,8 @@ void Simulation::write_run_info(const std::filesystem::path& file) const {
   info["suffuse_version"] = framework_version;
   info["scene"] = scene_.file.string();
   info["dimension"] = scene_.dim;
-  info["points"] = domain_->points.size();
+  info["points"] = point_count();
+  info["processes"] = processes();
   info["time_step"] = clock_.nominal_dt();
   info["time_step_mode"] = scene_.dt ? "fixed" : "automatic";
   info["cfl"] = scene_.cfl;
@@ -53,6 +54,9 @@ RunSummary Simulation::run(const RunOptions& options) {
   const std::filesystem::path& dir = options.output_dir;
 
   detail::RunOutputs outputs(scene_, writers_, dir, *domain_, species_.get(), *reactions_, *grid_projection_, times_);
+  if (!options.restart.empty() && domain_->comm.parallel())
+    throw Error("--restart runs on one process only in this version, not on " + std::to_string(processes()) +
+                " (docs/parallel.md)");
   if (!options.restart.empty()) {
     const std::vector<std::size_t> frames = load_checkpoint(options.restart);
     if (clock_.time() >= end)
@@ -63,7 +67,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   } else {
     outputs.start(clock_.time(), clock_.steps());
   }
-  if (!dir.empty() && (!writers_.empty() || species_ || !reactions_->empty()))
+  if (!dir.empty() && (!writers_.empty() || species_ || !reactions_->empty()) && domain_->comm.root())
     write_run_info(dir / (scene_.name + ".run.json"));
 
   // Checkpoints: at multiples of the interval and at the end, replacing one
@@ -85,7 +89,8 @@ RunSummary Simulation::run(const RunOptions& options) {
     step();
     const double now = clock_.time();
     const bool at_end = clock_.reached_end();
-    const bool stopping = !at_end && options.stop && options.stop->load();
+    // Every process stops at the same step (a signal may reach them apart).
+    const bool stopping = !at_end && domain_->comm.any(options.stop && options.stop->load());
     // An interrupted run ends like a finished one: a frame of every output and a checkpoint.
     outputs.after_step(now, clock_.steps(), at_end || stopping);
     if (!dir.empty() && (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() ||
@@ -95,7 +100,7 @@ RunSummary Simulation::run(const RunOptions& options) {
       checkpoint_due = next_checkpoint(now);
     }
     if (options.on_step) {
-      options.on_step(Progress{clock_.steps(), now, end, dt, domain_->points.size(),
+      options.on_step(Progress{clock_.steps(), now, end, dt, point_count(),
                                std::chrono::duration<double>(Clock::now() - start).count()});
     }
     if (stopping) break;
@@ -106,7 +111,7 @@ RunSummary Simulation::run(const RunOptions& options) {
 
   RunSummary summary;
   summary.steps = clock_.steps() - first_step;
-  summary.points = domain_->points.size();
+  summary.points = point_count();
   summary.simulated_time = clock_.time();
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const double stepping = summary.wall_seconds - times_[Stage::output];

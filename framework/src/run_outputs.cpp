@@ -22,6 +22,7 @@ RunOutputs::RunOutputs(const Scene& scene, std::vector<std::unique_ptr<Writer>>&
       reactions_(reactions),
       grid_(grid),
       times_(times),
+      writes_(domain.comm.root()),
       // Rows of the ledger and the reactions: every end/200 s.
       row_interval_(scene.end_time / 200),
       next_row_(0) {
@@ -53,6 +54,15 @@ void RunOutputs::open_csv(std::ofstream& csv, const char* suffix, std::optional<
 
 void RunOutputs::start(double time, std::size_t step) {
   if (dir_.empty()) return;
+  if (!writes_) {  // the same exchanges as the first process's below
+    if (species_) species_->mass_ledger(time);  // the ledger's first row
+    for (std::size_t w = 0; w < writers_.size(); ++w) {
+      write_frame(w, time, step);
+      next_[w] = interval_[w];
+    }
+    next_row_ = row_interval_;
+    return;
+  }
   if (!writers_.empty() || species_ || !reactions_.empty()) fs::create_directories(dir_);
   series_ = std::make_unique<PvdSeries>(dir_ / (scene_.name + ".pvd"));
   if (species_) open_csv(ledger_, ".ledger.csv", std::nullopt);
@@ -92,13 +102,21 @@ void RunOutputs::write_frame(std::size_t w, double now, std::size_t step) {
   const std::vector<GridField>& fields = writers_[w]->wants_grid_fields() ? grid_.project(domain_) : none;
   std::optional<MassLedger> ledger;
   if (species_) ledger = species_->mass_ledger(now);
+  const PointSet& points = domain_.gathered_points();
+  if (!writes_) {
+    ++frames_[w];
+    return;
+  }
   series_->set_part(static_cast<int>(w));
-  writers_[w]->write(OutputFrame{domain_.points, domain_.grid, step, now, fields, ledger ? &*ledger : nullptr,
-                                 *series_});
+  writers_[w]->write(OutputFrame{points, domain_.grid, step, now, fields, ledger ? &*ledger : nullptr, *series_});
   ++frames_[w];
 }
 
 void RunOutputs::write_rows(double now) {
+  if (!writes_) {
+    if (species_) species_->mass_ledger(now);  // its sums over every process's points
+    return;
+  }
   if (ledger_.is_open()) {
     species_->write_ledger_row(ledger_, now, false);
     ledger_.flush();
@@ -119,7 +137,7 @@ void RunOutputs::after_step(double now, std::size_t step, bool at_end) {
       wrote = true;
     }
   }
-  if (wrote) series_->save();
+  if (wrote && series_) series_->save();
   if (now >= next_row_ - 1e-9 * row_interval_ || at_end) {
     write_rows(now);
     next_row_ = next_multiple(row_interval_, now);
@@ -127,6 +145,7 @@ void RunOutputs::after_step(double now, std::size_t step, bool at_end) {
 }
 
 void RunOutputs::close() {
+  if (!writes_) return;
   for (auto& w : writers_) w->close();
 }
 

@@ -53,6 +53,9 @@ class RunOutputs {
   Reactions& reactions_;
   GridProjection& grid_;
   StageTimes& times_;
+  // On many processes the first one writes; the others take part in what a
+  // frame gathers (points, projected fields, the ledger's sums).
+  bool writes_;
   std::unique_ptr<PvdSeries> series_;
   std::vector<double> interval_, next_;
   std::vector<std::size_t> frames_;

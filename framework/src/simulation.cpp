@@ -75,6 +75,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
     bcs_.push_back(registry.create<BoundaryCondition>(bc.type, {bc.params, dim, bc.pointer}));
     bcs_.back()->setup(domain_->grid);
   }
+  refuse_what_one_process_only_runs();
   // Every part registers its point fields before the phases look theirs up.
   if (scene.saturated()) {
     mixture_ = std::make_unique<detail::SaturatedMixture>(scene, registry, *domain_, materials_->phases());
@@ -124,6 +125,26 @@ void Simulation::check_time_step() const {
 
 Simulation::~Simulation() = default;
 
+// Runs on many processes cover the explicit scheme and the conditions on
+// the grid (docs/parallel.md); the rest is refused before any point is made.
+void Simulation::refuse_what_one_process_only_runs() const {
+  const detail::Communicator& comm = domain_->comm;
+  if (!comm.parallel()) return;
+  const std::string processes = " on " + std::to_string(comm.size()) + " processes: ";
+  if (scene_.integration == TimeIntegration::quasi_static)
+    throw Error("/time/integration \"quasi_static\" runs on one process only in this version, not" + processes +
+                "run it without mpirun (docs/parallel.md)");
+  for (std::size_t b = 0; b < bcs_.size(); ++b)
+    if (bcs_[b]->loads_points())
+      throw Error(scene_.boundary_conditions[b].pointer + ": " + scene_.boundary_conditions[b].type +
+                  " loads the material points, which runs on one process only in this version, not" + processes +
+                  "run it without mpirun (docs/parallel.md)");
+}
+
+std::size_t Simulation::point_count() const { return domain_->total_points(); }
+int Simulation::processes() const { return domain_->comm.size(); }
+int Simulation::process_rank() const { return domain_->comm.rank(); }
+
 void Simulation::create_bodies() {
   const std::vector<double> weights = unit_weights();
   const double g = -scene_.gravity[scene_.dim - 1];  // along the vertical (last) axis, downward
@@ -137,6 +158,7 @@ void Simulation::create_bodies() {
     detail::add_geostatic_stress(scene_, weights, i, rho_w, g, domain_->points, b.range);
     phase.initialise(domain_->points, b.range);
   }
+  domain_->distribute_points();  // on many processes: each keeps its share
   if (species_) species_->start_ledger();
 }
 
@@ -166,7 +188,7 @@ double Simulation::critical_time_step() const {
     dt = std::min(dt, body.liquid ? mixture_->stable_time_step(body, phase, h)
                                   : h / std::sqrt(phase.p_wave_modulus() / phase.density()));
   }
-  dt = detail::global_min(dt);
+  dt = domain_->comm.min(dt);
   if (!(dt > 0) || !std::isfinite(dt))
     throw Error("cannot choose a time step automatically: no material has a positive wave speed; set /time/dt");
   // Mass scaling multiplies every inertia by f: waves slow down by sqrt(f).
@@ -340,7 +362,7 @@ double Simulation::total_mass() const {
   const double* m = points.data(points.core().mass);
   double total = 0;
   for (std::size_t p = 0; p < points.size(); ++p) total += m[p];
-  return detail::global_sum(total);
+  return domain_->comm.sum(total);
 }
 
 std::array<double, 3> Simulation::total_momentum() const {
@@ -351,7 +373,7 @@ std::array<double, 3> Simulation::total_momentum() const {
   std::array<double, 3> total{0, 0, 0};
   for (std::size_t p = 0; p < points.size(); ++p)
     for (int i = 0; i < dim; ++i) total[i] += m[p] * v[p * dim + i];
-  for (double& t : total) t = detail::global_sum(t);
+  for (double& t : total) t = domain_->comm.sum(t);
   return total;
 }
 

@@ -52,6 +52,9 @@ class BoundaryCondition {
                                   double time) const {
     (void)grid; (void)points; (void)nodes; (void)time;
   }
+  // True for a condition that overrides setup_points or apply_point_forces:
+  // a run on many processes refuses it in this version (docs/parallel.md).
+  virtual bool loads_points() const { return false; }
 };
 
 }  // namespace suffuse

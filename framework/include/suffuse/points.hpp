@@ -60,6 +60,9 @@ class PointSet {
 
   // Grows every field; new values are zero. Returns the index of the first new point.
   std::size_t append(std::size_t count);
+  // Keeps the points [begin, end) only, renumbered from 0 (a process's share
+  // of a run on many processes), and frees the rest.
+  void keep(std::size_t begin, std::size_t end);
 
   // Ids of the fields every simulation has.
   struct CoreFields {

@@ -156,8 +156,14 @@ class Simulation {
   // SUFFUSE_KERNELS (docs/quickstart.md).
   std::string kernels() const;
   const Scene& scene() const { return scene_; }
+  // This process's material points (all of them on one process).
   const PointSet& points() const;
   PointSet& points();
+  // Points over every process of the run; the processes (mpirun -np N:
+  // docs/parallel.md), and this one's rank (0: the one that writes outputs).
+  std::size_t point_count() const;
+  int processes() const;
+  int process_rank() const;
   const GridGeometry& grid() const;
   const NodeState& nodes() const;
   const StageTimes& stage_times() const { return times_; }
@@ -190,6 +196,7 @@ class Simulation {
   // The same, measuring the reactions the scene asks for (the grid update's).
   void constrain_velocity_recording_reactions(double time, double dt);
   void write_run_info(const std::filesystem::path& file) const;
+  void refuse_what_one_process_only_runs() const;  // on many processes
   void check_time_step() const;  // refuses a fixed step above the stable one, and endless runs
   // Checkpoints (checkpoint.cpp): `frames` is how many frames each writer wrote.
   void save_checkpoint(const std::filesystem::path& file, const std::vector<std::size_t>& frames) const;

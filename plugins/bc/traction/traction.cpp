@@ -95,6 +95,8 @@ class TractionBC final : public suffuse::BoundaryCondition {
   // normal (centre + half the size stretched by the normal strain), averaged
   // over the face's extent across it (as uGIMP averages over a point's box).
   // A node beyond the grid passes its weight to its neighbour inside.
+  bool loads_points() const override { return true; }
+
   void apply_point_forces(const suffuse::GridGeometry& grid, const suffuse::PointSet& points, suffuse::NodeState& state,
                           double time) const override {
     const double factor = suffuse::ramp_factor(time, ramp_);

@@ -1,0 +1,201 @@
+#include "communicator.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cstdlib>
+#include <string>
+
+#include "suffuse/error.hpp"
+
+#ifdef SUFFUSE_MPI
+#include <mpi.h>
+#endif
+
+namespace suffuse::detail {
+
+bool built_with_mpi() {
+#ifdef SUFFUSE_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+#ifdef SUFFUSE_MPI
+
+namespace {
+bool mpi_running() {
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  return initialised && !finalised;
+}
+
+// MPI counts are ints: a message of more values is refused, not truncated.
+std::vector<int> int_counts(const std::vector<std::size_t>& counts, std::vector<int>& displacements) {
+  std::vector<int> out(counts.size());
+  displacements.assign(counts.size(), 0);
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    if (counts[r] > static_cast<std::size_t>(INT_MAX) || total > static_cast<std::size_t>(INT_MAX))
+      throw Error("internal: an exchange of more than " + std::to_string(INT_MAX) + " values between processes");
+    out[r] = static_cast<int>(counts[r]);
+    displacements[r] = static_cast<int>(total);
+    total += counts[r];
+  }
+  return out;
+}
+}  // namespace
+
+Communicator::Communicator() {
+  if (!mpi_running()) return;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+}
+
+// Gathered, then added in rank order on every process: MPI_Allreduce may
+// add in any order, and a total that differed between processes in its last
+// bit could make them take different branches.
+double Communicator::sum(double local) const {
+  if (!parallel()) return local;
+  std::vector<double> all(static_cast<std::size_t>(size_));
+  MPI_Allgather(&local, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, MPI_COMM_WORLD);
+  double total = 0;
+  for (double v : all) total += v;
+  return total;
+}
+
+std::size_t Communicator::sum(std::size_t local) const {
+  if (!parallel()) return local;
+  unsigned long long mine = local, total = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return static_cast<std::size_t>(total);
+}
+
+double Communicator::min(double local) const {
+  if (!parallel()) return local;
+  double out = local;
+  MPI_Allreduce(&local, &out, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  return out;
+}
+
+bool Communicator::any(bool local) const {
+  if (!parallel()) return local;
+  int mine = local ? 1 : 0, out = 0;
+  MPI_Allreduce(&mine, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return out != 0;
+}
+
+std::vector<std::size_t> Communicator::all_counts(std::size_t mine) const {
+  if (!parallel()) return {mine};
+  std::vector<unsigned long long> all(static_cast<std::size_t>(size_));
+  unsigned long long m = mine;
+  MPI_Allgather(&m, 1, MPI_UNSIGNED_LONG_LONG, all.data(), 1, MPI_UNSIGNED_LONG_LONG, MPI_COMM_WORLD);
+  return {all.begin(), all.end()};
+}
+
+void Communicator::all_gather(std::span<const double> mine, const std::vector<std::size_t>& counts,
+                              std::vector<double>& all) const {
+  std::size_t total = 0;
+  for (std::size_t c : counts) total += c;
+  all.resize(total);
+  if (!parallel()) {
+    std::copy(mine.begin(), mine.end(), all.begin());
+    return;
+  }
+  std::vector<int> displacements;
+  const std::vector<int> n = int_counts(counts, displacements);
+  MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), n.data(), displacements.data(),
+                 MPI_DOUBLE, MPI_COMM_WORLD);
+}
+
+void Communicator::gather_to_root(std::span<const double> mine, const std::vector<std::size_t>& counts,
+                                  std::vector<double>& all) const {
+  if (!parallel()) {
+    all.assign(mine.begin(), mine.end());
+    return;
+  }
+  std::vector<int> displacements;
+  const std::vector<int> n = int_counts(counts, displacements);
+  if (root()) {
+    std::size_t total = 0;
+    for (std::size_t c : counts) total += c;
+    all.resize(total);
+  }
+  MPI_Gatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, root() ? all.data() : nullptr, n.data(),
+              displacements.data(), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+}
+
+void Communicator::abort(int code) const {
+  if (parallel()) MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
+}
+
+#else  // one process
+
+Communicator::Communicator() = default;
+double Communicator::sum(double local) const { return local; }
+std::size_t Communicator::sum(std::size_t local) const { return local; }
+double Communicator::min(double local) const { return local; }
+bool Communicator::any(bool local) const { return local; }
+std::vector<std::size_t> Communicator::all_counts(std::size_t mine) const { return {mine}; }
+void Communicator::all_gather(std::span<const double> mine, const std::vector<std::size_t>&,
+                              std::vector<double>& all) const {
+  all.assign(mine.begin(), mine.end());
+}
+void Communicator::gather_to_root(std::span<const double> mine, const std::vector<std::size_t>&,
+                                  std::vector<double>& all) const {
+  all.assign(mine.begin(), mine.end());
+}
+void Communicator::abort(int code) const { std::exit(code); }
+
+#endif
+
+}  // namespace suffuse::detail
+
+// ---------------------------------------------------------------------------
+
+#include "suffuse/parallel.hpp"
+
+namespace suffuse {
+
+bool has_mpi() { return detail::built_with_mpi(); }
+
+namespace {
+// Set by the launchers of OpenMPI, MPICH (Hydra) and PMIx: a process started
+// otherwise never starts MPI, so serial runs pay nothing for it.
+bool launched_by_mpirun() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (std::getenv(name)) return true;
+  return false;
+}
+}  // namespace
+
+ParallelProcesses::ParallelProcesses(int& argc, char**& argv) {
+#ifdef SUFFUSE_MPI
+  if (!launched_by_mpirun()) return;
+  MPI_Init(&argc, &argv);
+  started_ = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+#else
+  (void)argc;
+  (void)argv;
+  (void)launched_by_mpirun;
+#endif
+}
+
+ParallelProcesses::~ParallelProcesses() {
+#ifdef SUFFUSE_MPI
+  if (started_) MPI_Finalize();
+#endif
+}
+
+void ParallelProcesses::abort(int code) const {
+#ifdef SUFFUSE_MPI
+  if (started_ && size_ > 1) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  std::exit(code);
+}
+
+}  // namespace suffuse

@@ -1,0 +1,55 @@
+#pragma once
+// The processes of a run and what they exchange (issue 18, docs/parallel.md).
+// A run started by mpirun has one process per rank of MPI_COMM_WORLD; any
+// other run, and any build without MPI, has one process, and every call
+// below is then a copy or nothing.
+//
+// Each process holds a contiguous run of the points' scatter chunks (as the
+// serial run numbers them) and the whole grid. Every nodal sum is completed
+// in the serial order (Executor::scatter), so the nodes, and then the
+// points, are bit for bit those of the serial run, for any process count.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace suffuse::detail {
+
+class Communicator {
+ public:
+  // MPI_COMM_WORLD if MPI is initialised (ParallelRun), else one process.
+  Communicator();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool root() const { return rank_ == 0; }
+  bool parallel() const { return size_ > 1; }
+
+  // Totals over every process, the same on each. Sums add the processes'
+  // values in rank order, so they do not depend on timing.
+  double sum(double local) const;
+  std::size_t sum(std::size_t local) const;
+  double min(double local) const;
+  bool any(bool local) const;
+
+  // Every process's `mine` (counts[r] values from rank r), concatenated in
+  // rank order into `all` (resized to the total), on every process.
+  void all_gather(std::span<const double> mine, const std::vector<std::size_t>& counts, std::vector<double>& all) const;
+  // The same into rank 0's `all` only (others' `all` is left alone).
+  void gather_to_root(std::span<const double> mine, const std::vector<std::size_t>& counts,
+                      std::vector<double>& all) const;
+  // Each process's one count, as a vector of size() counts on every process.
+  std::vector<std::size_t> all_counts(std::size_t mine) const;
+
+  // Ends every process of the run at once (an error on one process would
+  // leave the others waiting in their next exchange).
+  [[noreturn]] void abort(int code) const;
+
+ private:
+  int rank_ = 0;
+  int size_ = 1;
+};
+
+// Whether this build has MPI (SUFFUSE_MPI).
+bool built_with_mpi();
+
+}  // namespace suffuse::detail
