@@ -1,0 +1,149 @@
+// Runs on many processes (issue 18, docs/parallel.md): `mpirun -np N suffuse
+// run` equals the serial run bit for bit (the checkpoint holds every point
+// field, the ledger's boundary sums and the clock), on scenes whose
+// scatters take each of the core's two orders of summation, with processes
+// that own no point; what runs on one process only is refused by name.
+// Built when CMake finds MPI; run with mpirun --oversubscribe (2 cores here).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("suffuse_parallel_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// `suffuse run` of `scene` into `out` on `processes` processes (1: without
+// mpirun); its exit status, its output in out/log.
+int run(const fs::path& scene, const fs::path& out, int processes) {
+  fs::create_directories(out);
+  std::string command;
+  if (processes > 1)
+    command = std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + SUFFUSE_MPIEXEC +
+              " --oversubscribe -np " + std::to_string(processes) + " ";
+  command += std::string(SUFFUSE_EXECUTABLE) + " run " + scene.string() + " --output " + out.string() + " > " +
+             (out / "log").string() + " 2>&1";
+  return WEXITSTATUS(std::system(command.c_str()));
+}
+
+json scene_file(const std::string& name) {
+  std::ifstream in(fs::path(SUFFUSE_SOURCE_DIR) / "share" / "scenes" / (name + ".json"));
+  return json::parse(in);
+}
+
+fs::path write_scene(const fs::path& dir, const std::string& name, const json& scene) {
+  const fs::path file = dir / (name + ".json");
+  std::ofstream(file) << scene.dump(1);
+  return file;
+}
+
+// The last row of a ledger CSV, as numbers.
+std::vector<double> last_ledger_row(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  std::vector<double> values;
+  std::stringstream cells(last);
+  for (std::string cell; std::getline(cells, cell, ',');) values.push_back(std::stod(cell));
+  return values;
+}
+
+// Runs `scene` serially and on each process count; every run's checkpoint
+// must be the serial one, byte for byte.
+void expect_equal_to_serial(const std::string& name, const json& scene, const std::vector<int>& counts) {
+  const fs::path dir = fresh_dir(name);
+  const fs::path file = write_scene(dir, name, scene);
+  ASSERT_EQ(run(file, dir / "serial", 1), 0) << slurp(dir / "serial" / "log");
+  const std::string serial = slurp(dir / "serial" / (name + ".checkpoint"));
+  ASSERT_GT(serial.size(), 1000u);
+  for (int n : counts) {
+    const fs::path out = dir / ("np" + std::to_string(n));
+    ASSERT_EQ(run(file, out, n), 0) << slurp(out / "log");
+    EXPECT_NE(slurp(out / "log").find(std::to_string(n) + " processes"), std::string::npos) << slurp(out / "log");
+    const json info = json::parse(slurp(out / (name + ".run.json")));
+    EXPECT_EQ(info.at("processes").get<int>(), n);
+    EXPECT_TRUE(slurp(out / (name + ".checkpoint")) == serial) << name << " on " << n << " processes";
+    if (fs::exists(dir / "serial" / (name + ".ledger.csv"))) {
+      // The ledger's totals add the processes' sums: equal within round-off.
+      const std::vector<double> a = last_ledger_row(dir / "serial" / (name + ".ledger.csv")),
+                                b = last_ledger_row(out / (name + ".ledger.csv"));
+      ASSERT_EQ(a.size(), b.size());
+      for (std::size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], b[k], 1e-12 * std::abs(a[k]) + 1e-12) << k;
+    }
+  }
+}
+
+// One scatter chunk: the first process holds every point, the others none.
+TEST(Parallel, ElasticBarEqualsSerialWithProcessesThatOwnNoPoint) {
+  expect_equal_to_serial("elastic_bar", scene_file("elastic_bar"), {2, 4});
+}
+
+// 99,840 points in 49 chunks, GIMP, two phases, erosion and transport of the
+// fines: scatters whose even chunks (and odd ones) touch no common node.
+TEST(Parallel, ErodingColumnEqualsSerial) {
+  json scene = scene_file("bench_suffusion_column");
+  scene["time"]["end"] = 0.002;
+  expect_equal_to_serial("eroding_column", scene, {2, 3});
+}
+
+// 3D GIMP: a chunk spans less than two layers of cells, so chunks two apart
+// share nodes and the scatters take the buffered order (executor.hpp).
+TEST(Parallel, GimpBlock3DEqualsSerial) {
+  json scene = scene_file("bench_column_3d");
+  scene["grid"]["cells"] = {16, 16, 12};
+  scene["bodies"][0]["max"] = {5.0, 5.0, 3.125};
+  scene["shape_function"]["type"] = "shape/gimp";
+  scene["time"]["end"] = 0.01;
+  scene["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", 0.005}}};
+  expect_equal_to_serial("gimp_block", scene, {2, 4});
+}
+
+// What runs on one process only is refused before a step, naming it.
+TEST(Parallel, RefusesWhatRunsOnOneProcessOnly) {
+  const fs::path dir = fresh_dir("refused");
+  json qs = scene_file("terzaghi");
+  qs["time"]["end"] = 0.05;
+  qs["time"]["integration"] = "quasi_static";
+  qs["time"]["dt"] = 0.01;
+  qs["time"].erase("cfl");  // controls of explicit dynamics
+  qs.erase("damping");
+  const fs::path file = write_scene(dir, "quasi_static", qs);
+  ASSERT_EQ(run(file, dir / "one", 1), 0) << slurp(dir / "one" / "log");  // the scene runs on one process
+  EXPECT_EQ(run(file, dir / "qs", 2), 1);
+  EXPECT_NE(slurp(dir / "qs" / "log").find("/time/integration \"quasi_static\" runs on one process only"),
+            std::string::npos)
+      << slurp(dir / "qs" / "log");
+
+  json loaded = scene_file("terzaghi");  // its load: bc/traction, the fourth condition
+  loaded["time"]["end"] = 0.01;
+  ASSERT_EQ(loaded["boundary_conditions"][3]["type"], "bc/traction");
+  const fs::path traction = write_scene(dir, "traction", loaded);
+  ASSERT_EQ(run(traction, dir / "traction_one", 1), 0) << slurp(dir / "traction_one" / "log");
+  EXPECT_EQ(run(traction, dir / "traction", 2), 1);
+  const std::string log = slurp(dir / "traction" / "log");
+  EXPECT_NE(log.find("/boundary_conditions/3: bc/traction loads the material points"), std::string::npos) << log;
+}
+
+}  // namespace
