@@ -120,6 +120,34 @@ TEST(Parallel, GimpBlock3DEqualsSerial) {
   expect_equal_to_serial("gimp_block", scene, {2, 4});
 }
 
+// A checkpoint does not depend on the process count: a serial run's,
+// continued on two processes, ends where the serial run does, bit for bit,
+// and so does the first process's ledger CSV.
+TEST(Parallel, RestartOnOtherProcessCountsContinuesExactly) {
+  const fs::path dir = fresh_dir("restart");
+  json scene = scene_file("bench_suffusion_column");
+  scene["time"]["dt"] = 8e-5;  // the first run ends on a step, not on a shortened one
+  scene["time"]["end"] = 0.002;
+  const fs::path whole = write_scene(dir, "column", scene);
+  ASSERT_EQ(run(whole, dir / "whole", 1), 0) << slurp(dir / "whole" / "log");
+  scene["time"]["end"] = 12 * 8e-5;
+  fs::create_directories(dir / "half");
+  const fs::path half = write_scene(dir / "half", "column", scene);
+  ASSERT_EQ(run(half, dir / "continued", 1), 0) << slurp(dir / "continued" / "log");
+  const std::string checkpoint = (dir / "continued" / "column.checkpoint").string();
+  const std::string command = std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") +
+                              SUFFUSE_MPIEXEC + " --oversubscribe -np 2 " + SUFFUSE_EXECUTABLE + " run " +
+                              whole.string() + " --output " + (dir / "continued").string() + " --restart " +
+                              checkpoint + " > " + (dir / "restart.log").string() + " 2>&1";
+  ASSERT_EQ(WEXITSTATUS(std::system(command.c_str())), 0) << slurp(dir / "restart.log");
+  EXPECT_TRUE(slurp(dir / "continued" / "column.checkpoint") == slurp(dir / "whole" / "column.checkpoint"));
+  const std::vector<double> a = last_ledger_row(dir / "whole" / "column.ledger.csv"),
+                            b = last_ledger_row(dir / "continued" / "column.ledger.csv");
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_DOUBLE_EQ(a[0], 0.002);
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], b[k], 1e-12 * std::abs(a[k]) + 1e-12) << k;
+}
+
 // What runs on one process only is refused before a step, naming it.
 TEST(Parallel, RefusesWhatRunsOnOneProcessOnly) {
   const fs::path dir = fresh_dir("refused");

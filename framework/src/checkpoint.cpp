@@ -140,10 +140,12 @@ std::vector<std::size_t> Simulation::load_checkpoint(const std::filesystem::path
   if (h.value("scene_fingerprint", "") != scene_.fingerprint)
     throw Error(where + "it was written by a run of another scene (" + h.value("scene", "?") +
                 "); a restart may change /time/end and /checkpoint only");
+  // On many processes each reads the file and keeps its own points.
   PointSet& pts = domain_->points;
-  if (h.value("points", std::size_t{0}) != pts.size() || h.value("dimension", 0) != scene_.dim)
+  const std::size_t total = domain_->total_points(), mine = domain_->first_point();
+  if (h.value("points", std::size_t{0}) != total || h.value("dimension", 0) != scene_.dim)
     throw Error(where + "it holds " + std::to_string(h.value("points", std::size_t{0})) + " points, the scene " +
-                std::to_string(pts.size()));
+                std::to_string(total));
 
   const char* v = bytes.data() + second + 1;
   const char* end = bytes.data() + bytes.size() - sizeof stored;
@@ -152,6 +154,10 @@ std::vector<std::size_t> Simulation::load_checkpoint(const std::filesystem::path
     // An empty field (a dry run's ledger) has no storage: memcpy from or to
     // a null pointer is undefined even for no bytes (found by UBSan).
     if (n > 0) std::memcpy(out, v, n * sizeof(double));
+    v += n * sizeof(double);
+  };
+  auto skip = [&](std::size_t n, const std::string& what) {
+    if (static_cast<std::size_t>(end - v) < n * sizeof(double)) throw Error(where + "too few values for " + what);
     v += n * sizeof(double);
   };
   const auto& fields = h.at("fields");
@@ -163,7 +169,11 @@ std::vector<std::size_t> Simulation::load_checkpoint(const std::filesystem::path
     const auto id = pts.find(name);
     if (!id || pts.components(*id) != f.at("components").get<int>())
       throw Error(where + "point field '" + name + "' is not in this run (or has another number of components)");
-    take(pts.data(*id), pts.values(*id).size(), "point field '" + name + "'");
+    const auto m = static_cast<std::size_t>(pts.components(*id));
+    const std::string what = "point field '" + name + "'";
+    skip(mine * m, what);
+    take(pts.data(*id), pts.values(*id).size(), what);
+    skip((total - mine - pts.size()) * m, what);
   }
   std::vector<double> ledger(h.at("ledger_values").get<std::size_t>());
   std::vector<double> reactions(h.at("reaction_values").get<std::size_t>());

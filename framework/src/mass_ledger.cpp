@@ -63,14 +63,13 @@ MassLedger SpeciesTransport::mass_ledger(double time) const {
   return l;
 }
 
-void SpeciesTransport::write_ledger_row(std::ostream& out, double time, bool header) const {
+void SpeciesTransport::write_ledger_row(std::ostream& out, const MassLedger& l, bool header) const {
   if (header) {
     out << "time,solid,skeleton_fines,suspended_fines,liquid,eroded";
     for (const auto& d : discharge_)
       out << ",fines_out_" << d.face << ",fines_in_" << d.face << ",liquid_out_" << d.face << ",liquid_in_" << d.face;
     out << ",fines_imbalance,liquid_imbalance,solid_imbalance\n";
   }
-  const MassLedger l = mass_ledger(time);
   out.precision(17);
   out << l.time << ',' << l.solid << ',' << l.skeleton_fines << ',' << l.suspended_fines << ',' << l.liquid << ','
       << l.eroded;

@@ -54,9 +54,6 @@ RunSummary Simulation::run(const RunOptions& options) {
   const std::filesystem::path& dir = options.output_dir;
 
   detail::RunOutputs outputs(scene_, writers_, dir, *domain_, species_.get(), *reactions_, *grid_projection_, times_);
-  if (!options.restart.empty() && domain_->comm.parallel())
-    throw Error("--restart runs on one process only in this version, not on " + std::to_string(processes()) +
-                " (docs/parallel.md)");
   if (!options.restart.empty()) {
     const std::vector<std::size_t> frames = load_checkpoint(options.restart);
     if (clock_.time() >= end)

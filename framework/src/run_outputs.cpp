@@ -38,7 +38,15 @@ double RunOutputs::next_multiple(double interval, double now) const {
   return (std::floor((now + eps) / interval) + 1) * interval;
 }
 
-void RunOutputs::open_csv(std::ofstream& csv, const char* suffix, std::optional<double> resume_time) {
+// The ledger at `time`: a sum over every process's points, so every process
+// computes it wherever the first one writes a row.
+std::optional<MassLedger> RunOutputs::ledger_at(double time) const {
+  if (!species_) return std::nullopt;
+  return species_->mass_ledger(time);
+}
+
+void RunOutputs::open_csv(std::ofstream& csv, const char* suffix, std::optional<double> resume_time,
+                          const std::optional<MassLedger>& ledger) {
   const fs::path file = dir_ / (scene_.name + suffix);
   const bool append = resume_time && keep_csv_rows_until(file, *resume_time);
   csv.open(file, append ? std::ios::app : std::ios::trunc);
@@ -46,7 +54,7 @@ void RunOutputs::open_csv(std::ofstream& csv, const char* suffix, std::optional<
   csv.precision(10);
   if (append) return;
   if (&csv == &ledger_)
-    species_->write_ledger_row(csv, resume_time.value_or(0), true);
+    species_->write_ledger_row(csv, *ledger, true);
   else
     reactions_.write_header(csv);
   csv.flush();
@@ -54,8 +62,8 @@ void RunOutputs::open_csv(std::ofstream& csv, const char* suffix, std::optional<
 
 void RunOutputs::start(double time, std::size_t step) {
   if (dir_.empty()) return;
+  const std::optional<MassLedger> ledger = ledger_at(time);  // the ledger's first row
   if (!writes_) {  // the same exchanges as the first process's below
-    if (species_) species_->mass_ledger(time);  // the ledger's first row
     for (std::size_t w = 0; w < writers_.size(); ++w) {
       write_frame(w, time, step);
       next_[w] = interval_[w];
@@ -65,8 +73,8 @@ void RunOutputs::start(double time, std::size_t step) {
   }
   if (!writers_.empty() || species_ || !reactions_.empty()) fs::create_directories(dir_);
   series_ = std::make_unique<PvdSeries>(dir_ / (scene_.name + ".pvd"));
-  if (species_) open_csv(ledger_, ".ledger.csv", std::nullopt);
-  if (!reactions_.empty()) open_csv(reactions_csv_, ".reactions.csv", std::nullopt);
+  if (species_) open_csv(ledger_, ".ledger.csv", std::nullopt, ledger);
+  if (!reactions_.empty()) open_csv(reactions_csv_, ".reactions.csv", std::nullopt, ledger);
   for (std::size_t w = 0; w < writers_.size(); ++w) writers_[w]->open(dir_, output_basename(scene_, w));
   for (std::size_t w = 0; w < writers_.size(); ++w) {
     write_frame(w, time, step);
@@ -81,19 +89,20 @@ void RunOutputs::resume(double time, const std::vector<std::size_t>& frames) {
   if (frames.size() != writers_.size())
     throw Error("cannot restart: the checkpoint has " + std::to_string(frames.size()) + " writers, the scene " +
                 std::to_string(writers_.size()));
+  const std::optional<MassLedger> ledger = ledger_at(time);  // for a ledger CSV written anew
+  frames_ = frames;
+  for (std::size_t w = 0; w < writers_.size(); ++w) next_[w] = next_multiple(interval_[w], time);
+  next_row_ = next_multiple(row_interval_, time);
+  if (!writes_) return;
   fs::create_directories(dir_);
   const fs::path pvd = dir_ / (scene_.name + ".pvd");
   series_ = fs::exists(pvd) ? std::make_unique<PvdSeries>(PvdSeries::resumed(pvd, time))
                             : std::make_unique<PvdSeries>(pvd);
-  if (species_) open_csv(ledger_, ".ledger.csv", time);
-  if (!reactions_.empty()) open_csv(reactions_csv_, ".reactions.csv", time);
-  frames_ = frames;
-  for (std::size_t w = 0; w < writers_.size(); ++w) {
+  if (species_) open_csv(ledger_, ".ledger.csv", time, ledger);
+  if (!reactions_.empty()) open_csv(reactions_csv_, ".reactions.csv", time, ledger);
+  for (std::size_t w = 0; w < writers_.size(); ++w)
     writers_[w]->resume(dir_, output_basename(scene_, w), ResumePoint{time, frames[w]});
-    next_[w] = next_multiple(interval_[w], time);
-  }
   series_->save();
-  next_row_ = next_multiple(row_interval_, time);
 }
 
 void RunOutputs::write_frame(std::size_t w, double now, std::size_t step) {
@@ -113,12 +122,10 @@ void RunOutputs::write_frame(std::size_t w, double now, std::size_t step) {
 }
 
 void RunOutputs::write_rows(double now) {
-  if (!writes_) {
-    if (species_) species_->mass_ledger(now);  // its sums over every process's points
-    return;
-  }
+  const std::optional<MassLedger> ledger = ledger_at(now);
+  if (!writes_) return;
   if (ledger_.is_open()) {
-    species_->write_ledger_row(ledger_, now, false);
+    species_->write_ledger_row(ledger_, *ledger, false);
     ledger_.flush();
   }
   if (reactions_csv_.is_open()) {

@@ -42,7 +42,9 @@ class RunOutputs {
  private:
   double next_multiple(double interval, double now) const;
   void write_frame(std::size_t w, double now, std::size_t step);
-  void open_csv(std::ofstream& csv, const char* suffix, std::optional<double> resume_time);
+  std::optional<MassLedger> ledger_at(double time) const;
+  void open_csv(std::ofstream& csv, const char* suffix, std::optional<double> resume_time,
+                const std::optional<MassLedger>& ledger);
   void write_rows(double now);
 
   const Scene& scene_;

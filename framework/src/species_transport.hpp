@@ -70,7 +70,8 @@ class SpeciesTransport {
 
   MassLedger mass_ledger(double time) const;
   // One CSV row of the ledger (with the header first if asked).
-  void write_ledger_row(std::ostream& out, double time, bool header) const;
+  // A row of the ledger CSV (after its header if `header`); `l` from mass_ledger.
+  void write_ledger_row(std::ostream& out, const MassLedger& l, bool header) const;
 
   // What a checkpoint keeps besides the point fields: the initial totals and
   // what crossed each boundary (with its summation carry).
