@@ -491,6 +491,10 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
                 << (sim.processes() > 1 ? " (first process)" : "") << ", " << std::setprecision(3)
                 << usage.ru_maxrss * 1024.0 / static_cast<double>(sim.points().size()) << " bytes per material point"
                 << (sim.processes() > 1 ? " of its own" : "") << "\n";
+    if (sim.processes() > 1 && s.steps > 0)
+      std::cout << "  exchanged: " << std::setprecision(3)
+                << 8.0 * static_cast<double>(s.exchanged_values) / static_cast<double>(s.steps) / 1e6
+                << " MB received per step by the first process\n";
     if (scene.integration == suffuse::TimeIntegration::quasi_static)
       std::cout << "  equilibrium: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps; "
                 << s.halved_steps << " attempts halved\n";

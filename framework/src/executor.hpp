@@ -102,6 +102,8 @@ class Executor {
 
   int threads() const { return threads_; }
   KernelIsa isa() const { return isa_; }
+  // Values received from other processes by the scatters so far.
+  std::size_t exchanged_values() const { return exchanged_; }
 
   // A run on many processes: this one holds the points [first, first +
   // local) of the serial run's `total`, whole scatter chunks of it (first is
@@ -301,6 +303,7 @@ class Executor {
         for (std::size_t end = c + chunks_of_rank_[r]; c < end; ++c)
           if (chosen(c)) counts[r] += (all[c].last - all[c].first) * width;
       comm_->all_gather(send_, counts, received_);
+      exchanged_ += received_.size() - send_.size();
       const double* from = received_.data();
       for (std::size_t c = 0; c < chunks; ++c) {
         if (!chosen(c)) continue;
@@ -391,6 +394,7 @@ class Executor {
   std::size_t total_points_ = 0, first_chunk_ = 0;
   std::vector<std::size_t> chunks_of_rank_;
   std::vector<double> send_, received_;  // exchanges between processes
+  std::size_t exchanged_ = 0;
   int threads_;
   std::size_t layers_;
   KernelIsa isa_;

@@ -80,6 +80,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   double checkpoint_due = next_checkpoint(clock_.time());
 
   const std::size_t first_step = clock_.steps();
+  const std::size_t exchanged_before = domain_->exec.exchanged_values();
   clock_.run_until(end);
   while (!clock_.reached_end()) {
     const double dt = clock_.dt();
@@ -121,6 +122,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.halved_steps = halved_steps_;
   if (species_) summary.ledger = mass_ledger();
   summary.interrupted = interrupted;
+  summary.exchanged_values = domain_->exec.exchanged_values() - exchanged_before;
   return summary;
 }
 

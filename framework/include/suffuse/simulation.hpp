@@ -94,6 +94,9 @@ struct RunSummary {
   // and the attempts that did not (each halved its step).
   std::size_t newton_iterations = 0, halved_steps = 0;
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
+  // Runs on many processes: the values this process received from the
+  // others in the scatters' exchanges (8 bytes each), over the run.
+  std::size_t exchanged_values = 0;
 };
 
 // Simulated time, advanced in one place. A step of size dt() ends at
