@@ -141,6 +141,24 @@ const PointSet& Domain::gathered_points() {
   return *gathered_;
 }
 
+const PointSet& Domain::every_point() {
+  if (!comm.parallel()) return points;
+  if (!every_) {
+    every_ = std::make_unique<PointSet>(dim());
+    for (FieldId f = 0; f < points.field_count(); ++f) every_->add_field(points.info(f));
+    every_->append(total_points_);
+  }
+  const std::vector<std::size_t> counts = comm.all_counts(points.size());
+  std::vector<std::size_t> values(counts.size());
+  for (FieldId f = 0; f < points.field_count(); ++f) {
+    const auto m = static_cast<std::size_t>(points.components(f));
+    for (std::size_t r = 0; r < counts.size(); ++r) values[r] = counts[r] * m;
+    comm.all_gather(points.values(f), values, exchanged_);
+    std::copy(exchanged_.begin(), exchanged_.end(), every_->data(f));
+  }
+  return *every_;
+}
+
 void Domain::evaluate_shape(Interpolation& out) {
   const int D = dim();
   const std::size_t n = points.size(), F = static_cast<std::size_t>(shape.per_point);

@@ -69,6 +69,9 @@ class Domain {
   // (collective; the others get an empty set): what writers and checkpoints
   // read. One process: `points` itself.
   const PointSet& gathered_points();
+  // Every process's points on every process (collective): what conditions
+  // that load points read on many processes (docs/parallel.md, Limits).
+  const PointSet& every_point();
 
   // Stage "shape": shape functions at the points' positions. Throws, naming
   // the point and its body, if a point left the grid.
@@ -101,6 +104,8 @@ class Domain {
   std::unique_ptr<ShapeFunction> shape_function_;
   std::size_t total_points_ = 0, first_point_ = 0;
   std::unique_ptr<PointSet> gathered_;  // the first process's copy of every point, for outputs
+  std::unique_ptr<PointSet> every_;     // every process's copy of every point, for point loads
+  std::vector<double> exchanged_;
   // /volumetric_strain "cell_average": each point's volumetric strain rate is
   // the volume-weighted mean of its cell's (B-bar-like; removes the locking
   // of isochoric plastic flow on low-order shape functions).

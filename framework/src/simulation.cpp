@@ -94,7 +94,11 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   grid_projection_ = std::make_unique<detail::GridProjection>(
       mixture_ ? &mixture_->fields() : nullptr, mixture_ ? &mixture_->nodal_darcy_flux() : nullptr);
   create_bodies();
+  // Every point still on every process: conditions that load points keep
+  // the serial run's point numbers.
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
+  domain_->distribute_points();  // on many processes: each keeps its share
+  if (species_) species_->start_ledger();
   if (scene.integration == TimeIntegration::quasi_static) {
     quasi_static_ = std::make_unique<detail::QuasiStatic>(scene_, *domain_, *materials_, mixture_.get(), bcs_);
     clock_ = SimulationClock(*scene.dt);  // validation requires it
@@ -134,11 +138,6 @@ void Simulation::refuse_what_one_process_only_runs() const {
   if (scene_.integration == TimeIntegration::quasi_static)
     throw Error("/time/integration \"quasi_static\" runs on one process only in this version, not" + processes +
                 "run it without mpirun (docs/parallel.md)");
-  for (std::size_t b = 0; b < bcs_.size(); ++b)
-    if (bcs_[b]->loads_points())
-      throw Error(scene_.boundary_conditions[b].pointer + ": " + scene_.boundary_conditions[b].type +
-                  " loads the material points, which runs on one process only in this version, not" + processes +
-                  "run it without mpirun (docs/parallel.md)");
 }
 
 std::size_t Simulation::point_count() const { return domain_->total_points(); }
@@ -158,8 +157,6 @@ void Simulation::create_bodies() {
     detail::add_geostatic_stress(scene_, weights, i, rho_w, g, domain_->points, b.range);
     phase.initialise(domain_->points, b.range);
   }
-  domain_->distribute_points();  // on many processes: each keeps its share
-  if (species_) species_->start_ledger();
 }
 
 // Each body's total unit weight: its grains, and the liquid (with the fines
@@ -212,9 +209,18 @@ void Simulation::timed(Stage stage, Work&& work) {
 }
 
 void Simulation::apply_loads(double time) {
+  // On many processes a condition that loads points reads every point, in
+  // the serial run's numbering, on every process (gathered once per step):
+  // each process adds the serial run's forces to its whole grid.
+  const PointSet* every = nullptr;
   for (const auto& bc : bcs_) {
     bc->apply_forces(domain_->grid, domain_->nodes, time);
-    bc->apply_point_forces(domain_->grid, domain_->points, domain_->nodes, time);
+    if (!domain_->comm.parallel()) {
+      bc->apply_point_forces(domain_->grid, domain_->points, domain_->nodes, time);
+    } else if (bc->loads_points()) {
+      if (!every) every = &domain_->every_point();
+      bc->apply_point_forces(domain_->grid, *every, domain_->nodes, time);
+    }
   }
 }
 

@@ -52,8 +52,10 @@ class BoundaryCondition {
                                   double time) const {
     (void)grid; (void)points; (void)nodes; (void)time;
   }
-  // True for a condition that overrides setup_points or apply_point_forces:
-  // a run on many processes refuses it in this version (docs/parallel.md).
+  // True for a condition that overrides setup_points or apply_point_forces.
+  // On many processes (docs/parallel.md) setup_points sees every point, and
+  // apply_point_forces every point (gathered each step) on every process:
+  // a condition that returns false is not called on many processes.
   virtual bool loads_points() const { return false; }
 };
 
