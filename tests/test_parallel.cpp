@@ -110,6 +110,13 @@ TEST(Parallel, ErodingColumnEqualsSerial) {
   expect_equal_to_serial("eroding_column", scene, {2, 3});
 }
 
+// 3D: 200,704 points, trilinear, two phases with erosion and transport.
+TEST(Parallel, ErodingColumn3DEqualsSerial) {
+  json scene = scene_file("bench_suffusion_column_3d");
+  scene["time"]["end"] = 0.002;
+  expect_equal_to_serial("eroding_column_3d", scene, {2, 4});
+}
+
 // 3D GIMP: a chunk spans less than two layers of cells, so chunks two apart
 // share nodes and the scatters take the buffered order (executor.hpp).
 TEST(Parallel, GimpBlock3DEqualsSerial) {
