@@ -102,6 +102,27 @@ TEST(Parallel, ElasticBarEqualsSerialWithProcessesThatOwnNoPoint) {
   expect_equal_to_serial("elastic_bar", scene_file("elastic_bar"), {2, 4});
 }
 
+// The default suffusion column: one chunk, on the first process; the
+// others hold no point but take part in every exchange. Every file its six
+// writers write (points, grid, probes, ledger) is the serial run's.
+TEST(Parallel, DefaultColumnAndEveryOutputEqualSerial) {
+  json scene = scene_file("suffusion_column");
+  scene["time"]["end"] = 2.0;
+  for (json& out : scene["outputs"])
+    if (out.contains("interval")) out["interval"] = 0.5;
+  expect_equal_to_serial("suffusion_column", scene, {2, 4});
+  const fs::path dir = fs::temp_directory_path() / "suffuse_parallel_suffusion_column";
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "serial")) {
+    const std::string name = entry.path().filename().string();
+    if (name == "log" || name.ends_with(".run.json")) continue;  // these say how it ran
+    ++files;
+    for (const char* run : {"np2", "np4"})
+      EXPECT_TRUE(slurp(entry.path()) == slurp(dir / run / name)) << name << " on " << run;
+  }
+  EXPECT_GE(files, 16u) << "checkpoint, ledger, .pvd, 2 x 5 frames, 4 probes";
+}
+
 // 99,840 points in 49 chunks, GIMP, two phases, erosion and transport of the
 // fines: scatters whose even chunks (and odd ones) touch no common node.
 TEST(Parallel, ErodingColumnEqualsSerial) {

@@ -9,17 +9,25 @@ namespace suffuse::detail {
 namespace {
 
 // field_I = sum_p N_Ip w_p f_p / sum_p N_Ip w_p; nodes no point reaches stay 0.
+// The sums go through the executor's scatter: on many processes each node
+// sums every process's points, in the serial run's order.
 template <int D>
-void weighted_mean(const PointSupports& s, std::size_t n, const double* w, const double* f, int k, GridField& out,
+void weighted_mean(Domain& d, const Interpolation& shape, const double* w, const double* f, int k, GridField& out,
                    std::vector<double>& weight) {
   std::fill(out.values.begin(), out.values.end(), 0.0);
   std::fill(weight.begin(), weight.end(), 0.0);
-  for (std::size_t p = 0; p < n; ++p)
-    for_each_weight<D>(s, p, [&](std::size_t I, double N) {
-      const double nw = N * w[p];
-      weight[I] += nw;
-      for (int c = 0; c < k; ++c) out.values[I * k + c] += nw * f[p * k + c];
-    });
+  ScatterTargets targets = shape.targets(weight.size());
+  targets.add(weight);
+  targets.add(out.values);
+  const PointSupports s = shape.view();
+  d.exec.scatter(d.points.size(), targets, [&](std::size_t b, std::size_t e, double* const* sums) {
+    for (std::size_t p = b; p < e; ++p)
+      for_each_weight<D>(s, p, [&](std::size_t I, double N) {
+        const double nw = N * w[p];
+        sums[0][I] += nw;
+        for (int c = 0; c < k; ++c) sums[1][I * k + c] += nw * f[p * k + c];
+      });
+  });
   for (std::size_t I = 0; I < weight.size(); ++I)
     for (int c = 0; c < k; ++c) out.values[I * k + c] = weight[I] > 0 ? out.values[I * k + c] / weight[I] : 0.0;
 }
@@ -43,17 +51,16 @@ const std::vector<GridField>& GridProjection::project(Domain& d) {
   }
   d.evaluate_shape(shape_);
   const auto mean = D == 2 ? &weighted_mean<2> : &weighted_mean<3>;
-  const PointSupports supports = shape_.view();
   const double* mass = d.points.data(core.mass);
   const double* volume = d.points.data(core.volume);
   const std::vector<double> ones(n, 1.0);
-  mean(supports, n, mass, ones.data(), 1, fields_[0], weight_);
+  mean(d, shape_, mass, ones.data(), 1, fields_[0], weight_);
   for (std::size_t I = 0; I < nodes; ++I) fields_[0].values[I] = weight_[I];  // the sum itself
-  mean(supports, n, mass, d.points.data(core.velocity), D, fields_[1], weight_);
+  mean(d, shape_, mass, d.points.data(core.velocity), D, fields_[1], weight_);
   if (mixture_) {
     const MixtureFields& m = *mixture_;
-    mean(supports, n, d.points.data(m.liquid_mass), d.points.data(m.liquid_velocity), D, fields_[2], weight_);
-    mean(supports, n, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
+    mean(d, shape_, d.points.data(m.liquid_mass), d.points.data(m.liquid_velocity), D, fields_[2], weight_);
+    mean(d, shape_, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
     fields_[4].values = *nodal_darcy_;
   }
   return fields_;

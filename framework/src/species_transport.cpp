@@ -274,6 +274,8 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   species_block_.assign(d_.grid.node_count() * species_block, 0.0);
   ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(species_block_);
+  // Whether the run tracks fines is fines_, never these pointers: a process
+  // that holds no point has null field pointers (docs/parallel.md).
   const double* fines = fines_ ? pts.data(fines_->suspended_fines) : nullptr;
   const double* carrying = fines_ ? pts.data(fines_->carrying_liquid) : nullptr;
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
@@ -284,7 +286,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   });
   d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
     unpack_species_block(b, e, species_block_.data(), node_pore_.data(), node_liquid_.data(),
-                         fines ? node_fines_.data() : nullptr, fines ? node_carrying_.data() : nullptr);
+                         fines_ ? node_fines_.data() : nullptr, fines_ ? node_carrying_.data() : nullptr);
   });
 
   if (scheme == TransportScheme::backward_euler) {
@@ -329,7 +331,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   const std::size_t nn = d_.grid.node_count();
   d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
     share_rates(b, e, 0, node_pore_.data(), node_liquid_.data(), node_dliquid_.data(), share_block_.data());
-    if (fines) {
+    if (fines_) {
       share_rates(b, e, 1, node_pore_.data(), node_fines_.data(), node_dfines_.data(), share_block_.data());
       share_rates(b, e, 2, node_pore_.data(), node_carrying_.data(), node_dcarrying_.data(), share_block_.data());
     }
