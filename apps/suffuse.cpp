@@ -280,13 +280,13 @@ int cmd_validate(const fs::path& scene_file) {
   if (scene.integration == suffuse::TimeIntegration::quasi_static) {
     // Steps adapt: only the largest is known, and so the fewest steps.
     const double largest = scene.quasi_static.max_dt > 0 ? scene.quasi_static.max_dt : sim.dt();
-    std::cout << "  run: " << sim.points().size() << " material points, quasi-static, first dt = " << sim.dt()
+    std::cout << "  run: " << sim.point_count() << " material points, quasi-static, first dt = " << sim.dt()
               << " s, at most " << largest << " s: at least "
               << std::llround(std::ceil(scene.end_time / largest - 1e-9)) << " steps to t = " << scene.end_time
               << " s\n";
     return 0;
   }
-  std::cout << "  run: " << sim.points().size() << " material points, dt = " << sim.dt() << " s ("
+  std::cout << "  run: " << sim.point_count() << " material points, dt = " << sim.dt() << " s ("
             << (scene.dt ? "fixed" : "automatic") << "), " << std::llround(std::ceil(scene.end_time / sim.dt() - 1e-9))
             << " steps to t = " << scene.end_time << " s\n";
   return 0;
@@ -485,12 +485,16 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
     // Peak resident memory of the process (program and libraries included),
     // over the points: issue 17's figure of memory per point.
     rusage usage{};
-    // On many processes: the first one's, over its own points.
-    if (getrusage(RUSAGE_SELF, &usage) == 0 && sim.points().size() > 0)
+    // On many processes: the first one's, over its own points (if any).
+    if (getrusage(RUSAGE_SELF, &usage) == 0) {
       std::cout << "  peak memory: " << std::setprecision(4) << usage.ru_maxrss / 1024.0 << " MB resident"
-                << (sim.processes() > 1 ? " (first process)" : "") << ", " << std::setprecision(3)
-                << usage.ru_maxrss * 1024.0 / static_cast<double>(sim.points().size()) << " bytes per material point"
-                << (sim.processes() > 1 ? " of its own" : "") << "\n";
+                << (sim.processes() > 1 ? " (first process)" : "");
+      if (sim.points().size() > 0)
+        std::cout << ", " << std::setprecision(3)
+                  << usage.ru_maxrss * 1024.0 / static_cast<double>(sim.points().size()) << " bytes per material point"
+                  << (sim.processes() > 1 ? " of its own" : "");
+      std::cout << "\n";
+    }
     if (sim.processes() > 1 && s.steps > 0)
       std::cout << "  exchanged: " << std::setprecision(3)
                 << 8.0 * static_cast<double>(s.exchanged_values) / static_cast<double>(s.steps) / 1e6

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 
@@ -51,25 +52,6 @@ Communicator::Communicator() {
   if (!mpi_running()) return;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
-}
-
-// Gathered, then added in rank order on every process: MPI_Allreduce may
-// add in any order, and a total that differed between processes in its last
-// bit could make them take different branches.
-double Communicator::sum(double local) const {
-  if (!parallel()) return local;
-  std::vector<double> all(static_cast<std::size_t>(size_));
-  MPI_Allgather(&local, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, MPI_COMM_WORLD);
-  double total = 0;
-  for (double v : all) total += v;
-  return total;
-}
-
-std::size_t Communicator::sum(std::size_t local) const {
-  if (!parallel()) return local;
-  unsigned long long mine = local, total = 0;
-  MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
-  return static_cast<std::size_t>(total);
 }
 
 double Communicator::min(double local) const {
@@ -134,8 +116,6 @@ void Communicator::abort(int code) const {
 #else  // one process
 
 Communicator::Communicator() = default;
-double Communicator::sum(double local) const { return local; }
-std::size_t Communicator::sum(std::size_t local) const { return local; }
 double Communicator::min(double local) const { return local; }
 bool Communicator::any(bool local) const { return local; }
 std::vector<std::size_t> Communicator::all_counts(std::size_t mine) const { return {mine}; }
@@ -174,14 +154,25 @@ bool launched_by_mpirun() {
 ParallelProcesses::ParallelProcesses(int& argc, char**& argv) {
 #ifdef SUFFUSE_MPI
   if (!launched_by_mpirun()) return;
-  MPI_Init(&argc, &argv);
+  // Only the thread that started MPI exchanges, outside OpenMP's regions.
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   started_ = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 #else
   (void)argc;
   (void)argv;
-  (void)launched_by_mpirun;
+  // N copies of a serial run would write the same files at once.
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (!size) size = std::getenv("PMI_SIZE");
+  if (launched_by_mpirun() && size && std::atoi(size) > 1) {
+    std::fprintf(stderr,
+                 "suffuse: error: started by mpirun on %s processes, but this build has no MPI (install "
+                 "libopenmpi-dev and rebuild; docs/parallel.md)\n",
+                 size);
+    std::exit(2);
+  }
 #endif
 }
 

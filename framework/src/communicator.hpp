@@ -24,10 +24,7 @@ class Communicator {
   bool root() const { return rank_ == 0; }
   bool parallel() const { return size_ > 1; }
 
-  // Totals over every process, the same on each. Sums add the processes'
-  // values in rank order, so they do not depend on timing.
-  double sum(double local) const;
-  std::size_t sum(std::size_t local) const;
+  // Over every process, the same on each. (Sums over points: Executor::totals.)
   double min(double local) const;
   bool any(bool local) const;
 

@@ -223,6 +223,34 @@ class Executor {
     });
   }
 
+  // Totals of k sums over points (k <= max_totals; add(p, sums) adds point
+  // p's terms): each scatter chunk sums its points in order, and the chunks'
+  // sums are added in chunk order, on every process. The same totals for any
+  // thread and process count (a mass ledger that a checkpoint keeps).
+  static constexpr int max_totals = 8;
+  template <class Add>
+  std::array<double, max_totals> totals(std::size_t points, int k, Add&& add) {
+    if (k < 0 || k > max_totals) throw Error("internal: " + std::to_string(k) + " totals at once");
+    const std::size_t chunk = scatter_chunk(points), mine = (points + chunk - 1) / chunk;
+    const auto m = static_cast<std::size_t>(k);
+    partial_.assign(mine * m, 0.0);
+    for_chunks(mine, [&](int, std::size_t cb, std::size_t ce) {
+      for (std::size_t c = cb; c < ce; ++c)
+        for (std::size_t p = c * chunk; p < std::min(points, (c + 1) * chunk); ++p) add(p, partial_.data() + c * m);
+    });
+    const std::vector<double>* all = &partial_;
+    if (comm_) {
+      std::vector<std::size_t> counts(chunks_of_rank_.size());
+      for (std::size_t r = 0; r < counts.size(); ++r) counts[r] = chunks_of_rank_[r] * m;
+      comm_->all_gather(partial_, counts, received_);
+      all = &received_;
+    }
+    std::array<double, max_totals> total{};
+    for (std::size_t c = 0; m > 0 && c < all->size() / m; ++c)
+      for (std::size_t i = 0; i < m; ++i) total[i] += (*all)[c * m + i];
+    return total;
+  }
+
   // True when each chunk's range ends before the range of the chunk two on
   // begins: no entry is touched by two even chunks or by two odd ones.
   static bool parities_are_disjoint(const std::vector<ScatterRange>& ranges) {
@@ -394,6 +422,7 @@ class Executor {
   std::size_t total_points_ = 0, first_chunk_ = 0;
   std::vector<std::size_t> chunks_of_rank_;
   std::vector<double> send_, received_;  // exchanges between processes
+  std::vector<double> partial_;          // per chunk: its sums (totals)
   std::size_t exchanged_ = 0;
   int threads_;
   std::size_t layers_;

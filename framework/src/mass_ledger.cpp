@@ -46,17 +46,17 @@ MassLedger SpeciesTransport::mass_ledger(double time) const {
   const double* skeleton = fines_ ? pts.data(fines_->skeleton_fines) : nullptr;
   const double* suspended = fines_ ? pts.data(fines_->suspended_fines) : nullptr;
   const double* eroded = fines_ ? pts.data(fines_->eroded_mass) : nullptr;
-  for (std::size_t p = 0; p < pts.size(); ++p) {
-    if (n[p] <= 0) continue;  // the ledger covers the saturated bodies
-    l.solid += ms[p];
-    l.liquid += ml[p];
-    if (!fines_) continue;
-    l.skeleton_fines += skeleton[p];
-    l.suspended_fines += suspended[p];
-    l.eroded += eroded[p];
-  }
-  for (double* total : {&l.solid, &l.liquid, &l.skeleton_fines, &l.suspended_fines, &l.eroded})
-    *total = d_.comm.sum(*total);
+  const bool fines = fines_.has_value();
+  const auto t = d_.exec.totals(pts.size(), 5, [&](std::size_t p, double* sum) {
+    if (n[p] <= 0) return;  // the ledger covers the saturated bodies
+    sum[0] += ms[p];
+    sum[1] += ml[p];
+    if (!fines) return;
+    sum[2] += skeleton[p];
+    sum[3] += suspended[p];
+    sum[4] += eroded[p];
+  });
+  l.solid = t[0], l.liquid = t[1], l.skeleton_fines = t[2], l.suspended_fines = t[3], l.eroded = t[4];
   // What crossed the boundaries is summed over nodes, which every process
   // holds whole (communicator.hpp): the same total on each already.
   l.boundaries = discharge_;

@@ -57,7 +57,8 @@ void Materials::update_stress(Domain& d, double dt) const {
     // A phase that throws is named, with the points of its batch.
     auto failed = [&](const std::exception& e, const PointRange& range) {
       return Error("phase " + names_[body.material] + " failed on material points " +
-                   std::to_string(range.begin) + " to " + std::to_string(range.end - 1) + " of body '" + body.name +
+                   std::to_string(d.first_point() + range.begin) + " to " +
+                   std::to_string(d.first_point() + range.end - 1) + " of body '" + body.name +
                    "': " + e.what());
     };
     d.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {

@@ -366,9 +366,7 @@ MassLedger Simulation::mass_ledger() const {
 double Simulation::total_mass() const {
   const PointSet& points = domain_->points;
   const double* m = points.data(points.core().mass);
-  double total = 0;
-  for (std::size_t p = 0; p < points.size(); ++p) total += m[p];
-  return domain_->comm.sum(total);
+  return domain_->exec.totals(points.size(), 1, [&](std::size_t p, double* sum) { sum[0] += m[p]; })[0];
 }
 
 std::array<double, 3> Simulation::total_momentum() const {
@@ -376,11 +374,10 @@ std::array<double, 3> Simulation::total_momentum() const {
   const int dim = scene_.dim;
   const double* m = points.data(points.core().mass);
   const double* v = points.data(points.core().velocity);
-  std::array<double, 3> total{0, 0, 0};
-  for (std::size_t p = 0; p < points.size(); ++p)
-    for (int i = 0; i < dim; ++i) total[i] += m[p] * v[p * dim + i];
-  for (double& t : total) t = domain_->comm.sum(t);
-  return total;
+  const auto t = domain_->exec.totals(points.size(), dim, [&](std::size_t p, double* sum) {
+    for (int i = 0; i < dim; ++i) sum[i] += m[p] * v[p * dim + i];
+  });
+  return {t[0], t[1], t[2]};
 }
 
 }  // namespace suffuse
