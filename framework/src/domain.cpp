@@ -122,40 +122,38 @@ void Domain::distribute_points() {
   exec.distribute(comm, total, begin, end - begin);
 }
 
-const PointSet& Domain::gathered_points() {
-  if (!comm.parallel()) return points;
-  if (!gathered_) {
-    gathered_ = std::make_unique<PointSet>(dim());
-    for (FieldId f = 0; f < points.field_count(); ++f) gathered_->add_field(points.info(f));
-    if (comm.root()) gathered_->append(total_points_);
+// Every process's points, in the serial numbering, into `into` (made on first
+// use): on the first process only, or on every process.
+void Domain::collect_points(std::unique_ptr<PointSet>& into, bool everywhere) {
+  if (!into) {
+    into = std::make_unique<PointSet>(dim());
+    for (FieldId f = 0; f < points.field_count(); ++f) into->add_field(points.info(f));
+    if (everywhere || comm.root()) into->append(total_points_);
   }
   const std::vector<std::size_t> counts = comm.all_counts(points.size());
   std::vector<std::size_t> values(counts.size());
-  std::vector<double> all;
   for (FieldId f = 0; f < points.field_count(); ++f) {
     const auto m = static_cast<std::size_t>(points.components(f));
     for (std::size_t r = 0; r < counts.size(); ++r) values[r] = counts[r] * m;
-    comm.gather_to_root(points.values(f), values, all);
-    if (comm.root()) std::copy(all.begin(), all.end(), gathered_->data(f));
+    if (everywhere) {
+      comm.all_gather(points.values(f), values, exchanged_);
+    } else {
+      comm.gather_to_root(points.values(f), values, exchanged_);
+      if (!comm.root()) continue;
+    }
+    std::copy(exchanged_.begin(), exchanged_.end(), into->data(f));
   }
+}
+
+const PointSet& Domain::gathered_points() {
+  if (!comm.parallel()) return points;
+  collect_points(gathered_, false);
   return *gathered_;
 }
 
 const PointSet& Domain::every_point() {
   if (!comm.parallel()) return points;
-  if (!every_) {
-    every_ = std::make_unique<PointSet>(dim());
-    for (FieldId f = 0; f < points.field_count(); ++f) every_->add_field(points.info(f));
-    every_->append(total_points_);
-  }
-  const std::vector<std::size_t> counts = comm.all_counts(points.size());
-  std::vector<std::size_t> values(counts.size());
-  for (FieldId f = 0; f < points.field_count(); ++f) {
-    const auto m = static_cast<std::size_t>(points.components(f));
-    for (std::size_t r = 0; r < counts.size(); ++r) values[r] = counts[r] * m;
-    comm.all_gather(points.values(f), values, exchanged_);
-    std::copy(exchanged_.begin(), exchanged_.end(), every_->data(f));
-  }
+  collect_points(every_, true);
   return *every_;
 }
 

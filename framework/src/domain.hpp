@@ -100,6 +100,7 @@ class Domain {
 
  private:
   void locate_cells();  // the cell of every point, at the start of the step
+  void collect_points(std::unique_ptr<PointSet>& into, bool everywhere);
 
   std::unique_ptr<ShapeFunction> shape_function_;
   std::size_t total_points_ = 0, first_point_ = 0;
