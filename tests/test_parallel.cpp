@@ -70,6 +70,24 @@ std::vector<double> last_ledger_row(const fs::path& csv) {
   return values;
 }
 
+// Every file the serial run of `name` wrote is, byte for byte, the one each
+// run on `counts` processes wrote (fresh_dir(name), expect_equal_to_serial);
+// returns how many files were compared.
+std::size_t expect_every_file_equal(const std::string& name, const std::vector<int>& counts) {
+  const fs::path dir = fs::temp_directory_path() / ("suffuse_parallel_" + name);
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "serial")) {
+    const std::string file = entry.path().filename().string();
+    if (file == "log" || file.ends_with(".run.json")) continue;  // these say how it ran
+    ++files;
+    for (int n : counts) {
+      const fs::path other = dir / ("np" + std::to_string(n)) / file;
+      EXPECT_TRUE(slurp(entry.path()) == slurp(other)) << file << " on " << n << " processes";
+    }
+  }
+  return files;
+}
+
 // Runs `scene` serially and on each process count; every run's checkpoint
 // must be the serial one, byte for byte.
 void expect_equal_to_serial(const std::string& name, const json& scene, const std::vector<int>& counts) {
@@ -109,24 +127,57 @@ TEST(Parallel, DefaultColumnAndEveryOutputEqualSerial) {
   for (json& out : scene["outputs"])
     if (out.contains("interval")) out["interval"] = 0.5;
   expect_equal_to_serial("suffusion_column", scene, {2, 4});
-  const fs::path dir = fs::temp_directory_path() / "suffuse_parallel_suffusion_column";
-  std::size_t files = 0;
-  for (const auto& entry : fs::directory_iterator(dir / "serial")) {
-    const std::string name = entry.path().filename().string();
-    if (name == "log" || name.ends_with(".run.json")) continue;  // these say how it ran
-    ++files;
-    for (const char* run : {"np2", "np4"})
-      EXPECT_TRUE(slurp(entry.path()) == slurp(dir / run / name)) << name << " on " << run;
-  }
-  EXPECT_GE(files, 16u) << "checkpoint, ledger, .pvd, 2 x 5 frames, 4 probes";
+  EXPECT_GE(expect_every_file_equal("suffusion_column", {2, 4}), 16u)
+      << "checkpoint, ledger, .pvd, 2 x 5 frames, 4 probes";
 }
 
 // 99,840 points in 49 chunks, GIMP, two phases, erosion and transport of the
 // fines: scatters whose even chunks (and odd ones) touch no common node.
-TEST(Parallel, ErodingColumnEqualsSerial) {
+// Each process updates only the nodes its points reach and a halo, so every
+// sum over nodes (the ledger's outflow at the top and through the free
+// surface, the reaction at the base) and every grid output (fields, a probe
+// integrating the Darcy flux over the top face) takes each node from the
+// process that owns it: every file is the serial run's.
+TEST(Parallel, ErodingColumnAndItsGridOutputsEqualSerial) {
   json scene = scene_file("bench_suffusion_column");
   scene["time"]["end"] = 0.002;
+  scene["boundary_conditions"][0]["reaction"] = "base";
+  scene["outputs"] = {
+      {{"type", "writer/vtk_grid"}, {"interval", 0.001}},
+      {{"type", "writer/csv_probe"}, {"name", "top"}, {"face", "top"}, {"fields", {"darcy_flux", "fines_discharged"}}},
+      {{"type", "writer/csv_probe"}, {"name", "inside"}, {"at", {4.0, 5.0}}, {"fields", {"pore_pressure"}}},
+  };
   expect_equal_to_serial("eroding_column", scene, {2, 3});
+  EXPECT_GE(expect_every_file_equal("eroding_column", {2, 3}), 9u)
+      << "checkpoint, ledger, reactions, .pvd, 3 grid frames, 2 probes";
+}
+
+// The footing on Tresca clay, 12,800 points in 7 chunks: the reactions of
+// the footing's nodes (all reached by the last process's points only) and
+// of the left face's (reached by every process's, the nodes between them by
+// two), and the volumetric strain averaged per cell (a scatter into cells).
+TEST(Parallel, FootingReactionsEqualSerial) {
+  json scene = scene_file("footing_mc");
+  scene["bodies"][0]["points_per_cell"] = 4;
+  scene["boundary_conditions"][1]["reaction"] = "left";
+  scene["time"]["end"] = 0.05;
+  scene["outputs"] = json::array();
+  expect_equal_to_serial("footing", scene, {2, 3});
+  EXPECT_GE(expect_every_file_equal("footing", {2, 3}), 2u) << "checkpoint, reactions";
+}
+
+// A block thrown at the floor: every point travels across the nodes other
+// processes' points held at the start (a process's nodes follow its points),
+// then the block hits the floor.
+TEST(Parallel, FallingBlockEqualsSerial) {
+  json scene = scene_file("bench_column");
+  scene["grid"] = {{"origin", {0.0, 0.0}}, {"cell_size", {0.05, 0.05}}, {"cells", {80, 80}}};
+  scene["shape_function"]["type"] = "shape/linear";
+  scene["bodies"][0]["min"] = {0.0, 1.5};
+  scene["bodies"][0]["max"] = {4.0, 3.5};
+  scene["bodies"][0]["velocity"] = {0.0, -10.0};
+  scene["time"]["end"] = 0.2;
+  expect_equal_to_serial("falling_block", scene, {2, 3});
 }
 
 // 3D: 200,704 points, trilinear, two phases with erosion and transport.

@@ -91,6 +91,21 @@ void Communicator::all_gather(std::span<const double> mine, const std::vector<st
                  MPI_DOUBLE, MPI_COMM_WORLD);
 }
 
+void Communicator::all_to_all(std::span<const double> send, const std::vector<std::size_t>& send_counts,
+                              const std::vector<std::size_t>& recv_counts, std::vector<double>& received) const {
+  std::size_t total = 0;
+  for (std::size_t c : recv_counts) total += c;
+  received.resize(total);
+  if (!parallel()) {
+    std::copy(send.begin(), send.end(), received.begin());
+    return;
+  }
+  std::vector<int> send_at, recv_at;
+  const std::vector<int> ns = int_counts(send_counts, send_at), nr = int_counts(recv_counts, recv_at);
+  MPI_Alltoallv(send.data(), ns.data(), send_at.data(), MPI_DOUBLE, received.data(), nr.data(), recv_at.data(),
+                MPI_DOUBLE, MPI_COMM_WORLD);
+}
+
 void Communicator::gather_to_root(std::span<const double> mine, const std::vector<std::size_t>& counts,
                                   std::vector<double>& all) const {
   if (!parallel()) {
@@ -126,6 +141,10 @@ void Communicator::all_gather(std::span<const double> mine, const std::vector<st
 void Communicator::gather_to_root(std::span<const double> mine, const std::vector<std::size_t>&,
                                   std::vector<double>& all) const {
   all.assign(mine.begin(), mine.end());
+}
+void Communicator::all_to_all(std::span<const double> send, const std::vector<std::size_t>&,
+                              const std::vector<std::size_t>&, std::vector<double>& received) const {
+  received.assign(send.begin(), send.end());
 }
 void Communicator::abort(int code) const { std::exit(code); }
 

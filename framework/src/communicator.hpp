@@ -5,9 +5,10 @@
 // below is then a copy or nothing.
 //
 // Each process holds a contiguous run of the points' scatter chunks (as the
-// serial run numbers them) and the whole grid. Every nodal sum is completed
-// in the serial order (Executor::scatter), so the nodes, and then the
-// points, are bit for bit those of the serial run, for any process count.
+// serial run numbers them). Every nodal sum is completed in the serial order
+// (Executor::scatter) on the nodes the process's points reach and a halo
+// around them, so those nodes, and then the points, are bit for bit those of
+// the serial run, for any process count.
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -34,6 +35,11 @@ class Communicator {
   // The same into rank 0's `all` only (others' `all` is left alone).
   void gather_to_root(std::span<const double> mine, const std::vector<std::size_t>& counts,
                       std::vector<double>& all) const;
+  // Point to point: send_counts[r] values of `send` (in rank order) to rank
+  // r; recv_counts[r] values from rank r into `received` (resized), in rank
+  // order. Both sides know the counts (no exchange of counts).
+  void all_to_all(std::span<const double> send, const std::vector<std::size_t>& send_counts,
+                  const std::vector<std::size_t>& recv_counts, std::vector<double>& received) const;
   // Each process's one count, as a vector of size() counts on every process.
   std::vector<std::size_t> all_counts(std::size_t mine) const;
 

@@ -32,6 +32,67 @@ Domain::Domain(const Scene& scene, const Registry& registry, int threads)
     cell_rate_.resize(cells);
   }
   nodes.resize(grid.node_count(), scene.dim, scene.saturated());
+  all_nodes_ = {ScatterRange{0, grid.node_count()}};
+}
+
+void Domain::set_halo_layers(int layers) {
+  shape.halo = static_cast<std::size_t>(std::max(0, layers)) * static_cast<std::size_t>(shape.stride[dim() - 1]);
+}
+
+ScatterRange Domain::node_range() const {
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  // Before the first step's shape functions: every node.
+  if (!comm.parallel() || shape.chunks.held.size() != ranks) return all_nodes_.front();
+  return Executor::needed(shape.chunks, static_cast<std::size_t>(comm.rank()), shape.halo, grid.node_count());
+}
+
+const std::vector<ScatterRange>& Domain::owned_nodes(const Interpolation& s) const {
+  if (!comm.parallel()) return all_nodes_;
+  if (s.chunks.owned.size() != static_cast<std::size_t>(comm.size()))
+    throw Error("internal: the nodes' owners are asked for before the shape functions were evaluated");
+  return s.chunks.owned[static_cast<std::size_t>(comm.rank())];
+}
+
+void Domain::start_node_terms(int k) {
+  if (k < 1 || k > max_node_terms) throw Error("internal: " + std::to_string(k) + " sums over nodes at once");
+  node_term_count_ = k;
+  node_terms_.clear();
+}
+
+Domain::NodeTerms Domain::sum_node_terms() {
+  const auto width = static_cast<std::size_t>(node_term_count_) + 1;  // the node, its terms
+  const std::vector<double>* records = &node_terms_;
+  if (comm.parallel()) {
+    comm.all_gather(node_terms_, comm.all_counts(node_terms_.size()), all_node_terms_);
+    records = &all_node_terms_;
+  }
+  const std::size_t n = records->size() / width;
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  // Each process's records ascend; the processes' own interleaved ranges.
+  if (comm.parallel())
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return (*records)[a * width] < (*records)[b * width]; });
+  NodeTerms sum{};
+  for (const std::size_t i : order)
+    for (std::size_t k = 1; k < width; ++k) sum[k - 1] += (*records)[i * width + k];
+  return sum;
+}
+
+void Domain::gather_nodal_to_root(const Interpolation& s, std::vector<double>& values, int components) {
+  if (!comm.parallel()) return;
+  const auto m = static_cast<std::size_t>(components);
+  std::vector<double> mine;
+  for (const ScatterRange& r : owned_nodes(s)) mine.insert(mine.end(), values.begin() + r.first * m, values.begin() + r.last * m);
+  comm.gather_to_root(mine, comm.all_counts(mine.size()), exchanged_);
+  if (!comm.root()) return;
+  std::fill(values.begin(), values.end(), 0.0);
+  const double* from = exchanged_.data();
+  for (const std::vector<ScatterRange>& owned : s.chunks.owned)
+    for (const ScatterRange& r : owned) {
+      std::copy(from, from + (r.last - r.first) * m, values.begin() + r.first * m);
+      from += (r.last - r.first) * m;
+    }
 }
 
 BodyPoints Domain::create_body(const BodySpec& body, double solid_density) {

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,12 +39,15 @@ struct Interpolation {
   std::array<int, 3> nodes{1, 1, 1};
   std::array<std::int64_t, 3> stride{};
   ScatterRanges chunks;  // the nodes each scatter chunk touches, for every nodal scatter of the step
+  // On many processes: nodes on each side of a process's held ones whose
+  // sums it needs complete (Domain::set_halo_layers).
+  std::size_t halo = 0;
   PointSupports view() const {
     return {first.data(), weights.data(), derivatives.data(), per_point, nodes, stride};
   }
   // A scatter into nodal arrays of `entries` nodes through these supports.
   ScatterTargets targets(std::size_t entries) const {
-    return ScatterTargets(first.data(), 1, entries, &chunks, view().extent());
+    return ScatterTargets(first.data(), 1, entries, &chunks, view().extent(), halo);
   }
 };
 
@@ -90,6 +94,58 @@ class Domain {
   // try increments before one is accepted).
   void update_velocity_gradient(double dt);
 
+  // The nodes this process updates: on one process every node; on many,
+  // those its points reach (their supports, in the step's shape functions)
+  // and a halo of `layers` node layers (along the grid's last axis) on each
+  // side, as wide as the farthest neighbour a nodal stage reads, through
+  // the stages of a step, so that the nodes the points read are the serial
+  // run's (docs/parallel.md). Set once, before the first step.
+  void set_halo_layers(int layers);
+  ScatterRange node_range() const;
+  // body(thread, begin, end) on threads' chunks of node_range().
+  template <class Body>
+  void for_nodes(Body&& body) {
+    const ScatterRange r = node_range();
+    exec.for_chunks(r.last - r.first,
+                    [&](int t, std::size_t b, std::size_t e) { body(t, r.first + b, r.first + e); });
+  }
+
+  // Sums over nodes, in node order, of the k <= 9 terms terms(I, t) writes
+  // for node I (returning false when it adds nothing), each node's terms
+  // from the process that owns it (ScatterRanges::owned): the serial run's
+  // sums, bit for bit, on every process (collective). Over every node, or
+  // over `candidates` (ascending node numbers).
+  static constexpr int max_node_terms = 9;
+  using NodeTerms = std::array<double, max_node_terms>;
+  template <class Terms>
+  NodeTerms node_sums(int k, Terms&& terms) {
+    start_node_terms(k);
+    for (const ScatterRange& r : owned_nodes(shape))
+      for (std::size_t I = r.first; I < r.last; ++I) add_node_terms(I, terms);
+    return sum_node_terms();
+  }
+  // (Here terms(i, t) are those of node candidates[i].)
+  template <class Terms>
+  NodeTerms node_sums(int k, std::span<const std::int64_t> candidates, Terms&& terms) {
+    start_node_terms(k);
+    const std::vector<ScatterRange>& owned = owned_nodes(shape);
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      const auto I = static_cast<std::size_t>(candidates[i]);
+      for (const ScatterRange& r : owned)
+        if (I >= r.first && I < r.last) {
+          auto of_candidate = [&](std::size_t, double* t) { return terms(i, t); };
+          add_node_terms(I, of_candidate);
+        }
+    }
+    return sum_node_terms();
+  }
+  // The nodes this process owns among those `s` reaches (one process: all).
+  const std::vector<ScatterRange>& owned_nodes(const Interpolation& s) const;
+  // On many processes, nodal values (`components` per node) made on every
+  // process through `s`, on the first process: each owned node's from its
+  // owner, zero at nodes no point reaches (as in the serial run).
+  void gather_nodal_to_root(const Interpolation& s, std::vector<double>& values, int components);
+
   Communicator comm;
   GridGeometry grid;
   NodeState nodes;
@@ -113,6 +169,18 @@ class Domain {
   bool average_volumetric_rate_;
   ExpandedSupports expanded_;
   bool expanded_current_ = false;
+  void start_node_terms(int k);
+  template <class Terms>
+  void add_node_terms(std::size_t I, Terms& terms) {
+    double t[max_node_terms] = {};
+    if (!terms(I, t)) return;
+    node_terms_.push_back(static_cast<double>(I));
+    node_terms_.insert(node_terms_.end(), t, t + node_term_count_);
+  }
+  NodeTerms sum_node_terms();
+  int node_term_count_ = 0;
+  std::vector<double> node_terms_, all_node_terms_;
+  std::vector<ScatterRange> all_nodes_;  // one process: every node
   std::vector<NodeId> point_cell_;
   ScatterRanges point_cell_chunks_;
   std::vector<double> cell_volume_, cell_rate_;

@@ -19,7 +19,7 @@ void DryMomentum::points_to_grid() {
     });
   });
   auto unpack = d_.dim() == 2 ? &unpack_dry_block<2> : &unpack_dry_block<3>;
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     unpack(b, e, block_.data(), n.mass.data(), n.momentum.data(), n.force.data());
   });
 }
@@ -27,7 +27,7 @@ void DryMomentum::points_to_grid() {
 void DryMomentum::integrate_grid(double dt) {
   NodeState& n = d_.nodes;
   auto update = d_.dim() == 2 ? &grid_update_kernel<2> : &grid_update_kernel<3>;
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     update(b, e, dt, damping_, n.mass.data(), n.momentum.data(), n.force.data(), n.velocity.data());
   });
 }
@@ -35,7 +35,7 @@ void DryMomentum::integrate_grid(double dt) {
 void DryMomentum::accelerations(double dt) {
   NodeState& n = d_.nodes;
   auto acc = d_.dim() == 2 ? &acceleration_kernel<2> : &acceleration_kernel<3>;
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     acc(b, e, dt, n.mass.data(), n.momentum.data(), n.velocity.data(), n.acceleration.data());
   });
 }
@@ -66,7 +66,7 @@ void DryMomentum::remap() {
     });
   });
   auto velocity = d_.dim() == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     velocity(b, e, n.mass.data(), n.momentum.data(), n.velocity.data());
   });
 }

@@ -26,10 +26,17 @@ struct ScatterRange {
 };
 // Those of every chunk of `points` points (Executor::chunk_ranges); in a
 // run on many processes, `chunks` are this process's and `all` every
-// process's, in the serial run's chunk order.
+// process's, in the serial run's chunk order, and per process:
+// - held: the entries its chunks touch (from its chunks' first to their
+//   last; empty if it has no point);
+// - owned: those of its held entries no lower process holds. Each entry a
+//   point touches is owned by one process, which gives its value to sums
+//   over entries and to outputs (Domain::node_sums).
 struct ScatterRanges {
   std::size_t points = 0;
   std::vector<ScatterRange> chunks, all;
+  std::vector<ScatterRange> held;
+  std::vector<std::vector<ScatterRange>> owned;
 };
 
 // The arrays one scatter adds into, and which of their entries each point
@@ -42,9 +49,12 @@ struct ScatterRanges {
 class ScatterTargets {
  public:
   static constexpr int capacity = 16;
+  // `halo`: on many processes, entries on each side of the process's held
+  // ones whose sums it needs complete too (what its nodal stages read
+  // beyond them; ScatterRanges).
   ScatterTargets(const NodeId* index, int per_point, std::size_t entries,
-                 const ScatterRanges* ranges = nullptr, std::int64_t extent = 0)
-      : index_(index), per_point_(per_point), entries_(entries), ranges_(ranges), extent_(extent) {}
+                 const ScatterRanges* ranges = nullptr, std::int64_t extent = 0, std::size_t halo = 0)
+      : index_(index), per_point_(per_point), entries_(entries), ranges_(ranges), extent_(extent), halo_(halo) {}
   void add(std::vector<double>& v) {
     if (count_ == capacity)
       throw Error("internal: a scatter into more than " + std::to_string(capacity) + " arrays");
@@ -67,6 +77,7 @@ class ScatterTargets {
   std::size_t entries() const { return entries_; }
   const ScatterRanges* ranges() const { return ranges_; }
   std::int64_t extent() const { return extent_; }
+  std::size_t halo() const { return halo_; }
 
  private:
   const NodeId* index_;
@@ -74,6 +85,7 @@ class ScatterTargets {
   std::size_t entries_;
   const ScatterRanges* ranges_;
   std::int64_t extent_;
+  std::size_t halo_;
   std::array<double*, capacity> array_{};
   std::array<std::size_t, capacity> components_{};
   int count_ = 0;
@@ -114,6 +126,17 @@ class Executor {
     const std::size_t chunk = scatter_chunk(total);
     first_chunk_ = first / chunk;
     chunks_of_rank_ = comm.all_counts((local + chunk - 1) / chunk);
+    first_chunk_of_rank_.assign(chunks_of_rank_.size() + 1, 0);
+    for (std::size_t r = 0; r < chunks_of_rank_.size(); ++r)
+      first_chunk_of_rank_[r + 1] = first_chunk_of_rank_[r] + chunks_of_rank_[r];
+  }
+
+  // The entries process `rank` needs complete after a scatter through
+  // `ranges`: its held ones and `halo` on each side, within [0, entries).
+  static ScatterRange needed(const ScatterRanges& ranges, std::size_t rank, std::size_t halo, std::size_t entries) {
+    const ScatterRange& h = ranges.held[rank];
+    if (h.first >= h.last) return {};
+    return {h.first - std::min(h.first, halo), std::min(entries, h.last + halo)};
   }
 
   // kernel.template operator()<D, L>() for dimension `dim` on this run's
@@ -299,58 +322,111 @@ class Executor {
     out.all.resize(received_.size() / 2);
     for (std::size_t c = 0; c < out.all.size(); ++c)
       out.all[c] = {static_cast<std::size_t>(received_[2 * c]), static_cast<std::size_t>(received_[2 * c + 1])};
+    const std::size_t ranks = chunks_of_rank_.size();
+    out.held.assign(ranks, ScatterRange{});
+    out.owned.assign(ranks, {});
+    for (std::size_t r = 0; r < ranks; ++r) {
+      ScatterRange& h = out.held[r];
+      h = {std::numeric_limits<std::size_t>::max(), 0};
+      for (std::size_t c = first_chunk_of_rank_[r]; c < first_chunk_of_rank_[r + 1]; ++c)
+        if (out.all[c].first < out.all[c].last)
+          h.first = std::min(h.first, out.all[c].first), h.last = std::max(h.last, out.all[c].last);
+      if (h.first >= h.last) {
+        h = {};
+        continue;
+      }
+      // Its held entries less every lower process's.
+      std::vector<ScatterRange> left{h};
+      for (std::size_t q = 0; q < r; ++q) {
+        const ScatterRange& cut = out.held[q];
+        std::vector<ScatterRange> next;
+        for (const ScatterRange& piece : left) {
+          if (cut.first >= cut.last || cut.last <= piece.first || cut.first >= piece.last) {
+            next.push_back(piece);
+            continue;
+          }
+          if (piece.first < cut.first) next.push_back({piece.first, cut.first});
+          if (cut.last < piece.last) next.push_back({cut.last, piece.last});
+        }
+        left = std::move(next);
+      }
+      out.owned[r] = std::move(left);
+    }
   }
 
   // The scatter of a run on many processes, each holding whole chunks of
-  // the serial run's: each node's sum is formed in the serial run's order.
-  // - Disjoint parities: the even chunks add into the targets, and each
-  //   process sends the entries of its even chunks to every other (no two
-  //   even chunks share one); then the odd chunks, the same way.
+  // the serial run's: each sum a process needs (its held entries and the
+  // targets' halo, `needed`) is formed in the serial run's order. Each
+  // process sends another only the part of its chunks' entries the other
+  // needs: neighbours along the points' order exchange, the others not.
+  // Entries a process does not need are left incomplete.
+  // - Disjoint parities: the even chunks add into the targets and send
+  //   their entries (no two even chunks share one); then the odd chunks,
+  //   the same way.
   // - Otherwise: chunk 0 adds into the targets, every other chunk into a
-  //   buffer of its own; then every process has chunk 0's entries and every
-  //   buffer, and adds the buffers in chunk order, as the serial run does.
+  //   buffer of its own; then each process receives chunk 0's entries and
+  //   the buffers it needs, and adds the buffers in chunk order, as the
+  //   serial run does.
   template <class Kernel>
   void scatter_across_processes(std::size_t points, const ScatterTargets& targets, Kernel& kernel) {
     const std::size_t chunk = scatter_chunk(points), mine = (points + chunk - 1) / chunk;
     const bool cached = targets.ranges() && targets.ranges()->points == points && !targets.ranges()->all.empty();
     if (!cached) chunk_ranges(targets.index(), targets.per_point(), points, ranges_, targets.extent());
-    const std::vector<ScatterRange>& all = cached ? targets.ranges()->all : ranges_.all;
+    const ScatterRanges& ranges = cached ? *targets.ranges() : ranges_;
+    const std::vector<ScatterRange>& all = ranges.all;
     const std::size_t first = first_chunk_, chunks = all.size(), width = targets.components_total();
+    const std::size_t ranks = chunks_of_rank_.size(), me = static_cast<std::size_t>(comm_->rank());
+    need_.resize(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) need_[r] = needed(ranges, r, targets.halo(), targets.entries());
+    // The entries of chunk c that process r needs.
+    auto overlap = [&](std::size_t c, std::size_t r) {
+      const std::size_t lo = std::max(all[c].first, need_[r].first), hi = std::min(all[c].last, need_[r].last);
+      return lo < hi ? ScatterRange{lo, hi} : ScatterRange{};
+    };
     auto run = [&](std::size_t c, double* const* arrays) {
       const std::size_t local = c - first;
       kernel(local * chunk, std::min(points, (local + 1) * chunk), arrays);
     };
-    // Every process's values of the entries of the chosen chunks, from their
-    // owners to all; `take` receives each other process's chunk and its values.
+    // The chosen chunks' values, from their owners to the processes that
+    // need them: pack(c, part) appends the values of chunk c on entries
+    // `part` (array by array), take(c, part, from) stores what arrived.
     auto share = [&](auto chosen, auto&& pack, auto&& take) {
       send_.clear();
-      for (std::size_t c = first; c < first + mine; ++c)
-        if (chosen(c)) pack(c);
-      std::vector<std::size_t> counts(chunks_of_rank_.size(), 0);
-      for (std::size_t r = 0, c = 0; r < counts.size(); ++r)
-        for (std::size_t end = c + chunks_of_rank_[r]; c < end; ++c)
-          if (chosen(c)) counts[r] += (all[c].last - all[c].first) * width;
-      comm_->all_gather(send_, counts, received_);
-      exchanged_ += received_.size() - send_.size();
+      std::vector<std::size_t> send_counts(ranks, 0), recv_counts(ranks, 0);
+      for (std::size_t r = 0; r < ranks; ++r) {
+        if (r == me) continue;
+        for (std::size_t c = first; c < first + mine; ++c) {
+          const ScatterRange part = overlap(c, r);
+          if (!chosen(c) || part.first >= part.last) continue;
+          pack(c, part);
+          send_counts[r] += (part.last - part.first) * width;
+        }
+        for (std::size_t c = first_chunk_of_rank_[r]; c < first_chunk_of_rank_[r + 1]; ++c)
+          if (chosen(c)) recv_counts[r] += (overlap(c, me).last - overlap(c, me).first) * width;
+      }
+      comm_->all_to_all(send_, send_counts, recv_counts, received_);
+      exchanged_ += received_.size();
       const double* from = received_.data();
-      for (std::size_t c = 0; c < chunks; ++c) {
-        if (!chosen(c)) continue;
-        take(c, from);
-        from += (all[c].last - all[c].first) * width;
+      for (std::size_t r = 0; r < ranks; ++r) {
+        if (r == me) continue;
+        for (std::size_t c = first_chunk_of_rank_[r]; c < first_chunk_of_rank_[r + 1]; ++c) {
+          const ScatterRange part = overlap(c, me);
+          if (!chosen(c) || part.first >= part.last) continue;
+          take(c, part, from);
+          from += (part.last - part.first) * width;
+        }
       }
     };
-    auto pack_targets = [&](std::size_t c) {
+    auto pack_from = [&](double* const* arrays, const ScatterRange& part) {
       for (int k = 0; k < targets.count(); ++k) {
         const std::size_t m = targets.components(k);
-        const double* v = targets.arrays()[k];
-        send_.insert(send_.end(), v + all[c].first * m, v + all[c].last * m);
+        send_.insert(send_.end(), arrays[k] + part.first * m, arrays[k] + part.last * m);
       }
     };
-    auto set_targets = [&](std::size_t c, const double* from) {
-      if (c >= first && c < first + mine) return;  // in place already
+    auto take_into = [&](double* const* arrays, const ScatterRange& part, const double* from) {
       for (int k = 0; k < targets.count(); ++k) {
-        const std::size_t m = targets.components(k), n = (all[c].last - all[c].first) * m;
-        std::copy(from, from + n, targets.arrays()[k] + all[c].first * m);
+        const std::size_t m = targets.components(k), n = (part.last - part.first) * m;
+        std::copy(from, from + n, arrays[k] + part.first * m);
         from += n;
       }
     };
@@ -361,7 +437,11 @@ class Executor {
         for_chunks(count, [&](int, std::size_t kb, std::size_t ke) {
           for (std::size_t k = kb; k < ke; ++k) run(begin + 2 * k, targets.arrays());
         });
-        share([&](std::size_t c) { return c % 2 == parity; }, pack_targets, set_targets);
+        share([&](std::size_t c) { return c % 2 == parity; },
+              [&](std::size_t, const ScatterRange& part) { pack_from(targets.arrays(), part); },
+              [&](std::size_t, const ScatterRange& part, const double* from) {
+                take_into(targets.arrays(), part, from);
+              });
       }
       return;
     }
@@ -369,44 +449,32 @@ class Executor {
     for (std::size_t c = 1; c < chunks; ++c) offsets_[c + 1] = offsets_[c] + (all[c].last - all[c].first) * width;
     if (buffer_.size() < offsets_[chunks]) buffer_.resize(offsets_[chunks]);
     // Each chunk's buffer at the place it has among all chunks' buffers, the
-    // arrays one after another, each indexed by entry as the targets are.
+    // arrays one after another, each indexed by entry as the targets are
+    // (chunk 0: the targets).
     auto parts = [&](std::size_t c) {
       std::array<double*, ScatterTargets::capacity> part{};
       double* next = buffer_.data() + offsets_[c];
       for (int k = 0; k < targets.count(); ++k) {
-        part[k] = next - all[c].first * targets.components(k);
+        part[k] = c == 0 ? targets.arrays()[k] : next - all[c].first * targets.components(k);
         next += (all[c].last - all[c].first) * targets.components(k);
       }
       return part;
     };
     for_chunks(mine, [&](int, std::size_t kb, std::size_t ke) {
       for (std::size_t c = first + kb; c < first + ke; ++c) {
-        if (c == 0) {
-          run(c, targets.arrays());
-          continue;
-        }
-        std::fill(buffer_.data() + offsets_[c], buffer_.data() + offsets_[c + 1], 0.0);
+        if (c > 0) std::fill(buffer_.data() + offsets_[c], buffer_.data() + offsets_[c + 1], 0.0);
         run(c, parts(c).data());
       }
     });
     share([](std::size_t) { return true; },
-          [&](std::size_t c) {
-            if (c == 0) {
-              pack_targets(c);
-            } else {
-              send_.insert(send_.end(), buffer_.data() + offsets_[c], buffer_.data() + offsets_[c + 1]);
-            }
-          },
-          [&](std::size_t c, const double* from) {
-            if (c == 0) {
-              set_targets(c, from);
-            } else if (c < first || c >= first + mine) {
-              std::copy(from, from + (offsets_[c + 1] - offsets_[c]), buffer_.data() + offsets_[c]);
-            }
+          [&](std::size_t c, const ScatterRange& part) { pack_from(parts(c).data(), part); },
+          [&](std::size_t c, const ScatterRange& part, const double* from) {
+            take_into(parts(c).data(), part, from);
           });
-    for_chunks(targets.entries(), [&](int, std::size_t eb, std::size_t ee) {
+    const ScatterRange own = need_[me];
+    for_chunks(own.last - own.first, [&](int, std::size_t eb, std::size_t ee) {
       for (std::size_t c = 1; c < chunks; ++c) {
-        const std::size_t lo = std::max(eb, all[c].first), hi = std::min(ee, all[c].last);
+        const std::size_t lo = std::max(own.first + eb, all[c].first), hi = std::min(own.first + ee, all[c].last);
         if (lo >= hi) continue;
         const auto part = parts(c);
         for (int k = 0; k < targets.count(); ++k) {
@@ -420,7 +488,8 @@ class Executor {
 
   const Communicator* comm_ = nullptr;  // a run on many processes; null: one
   std::size_t total_points_ = 0, first_chunk_ = 0;
-  std::vector<std::size_t> chunks_of_rank_;
+  std::vector<std::size_t> chunks_of_rank_, first_chunk_of_rank_;
+  std::vector<ScatterRange> need_;       // per process: the entries it needs from a scatter
   std::vector<double> send_, received_;  // exchanges between processes
   std::vector<double> partial_;          // per chunk: its sums (totals)
   std::size_t exchanged_ = 0;

@@ -63,6 +63,9 @@ const std::vector<GridField>& GridProjection::project(Domain& d) {
     mean(d, shape_, volume, d.points.data(m.pressure), 1, fields_[3], weight_);
     fields_[4].values = *nodal_darcy_;
   }
+  // On many processes each node's values are complete on the processes
+  // whose points reach it: its owner's go to the first process, which writes.
+  for (GridField& f : fields_) d.gather_nodal_to_root(shape_, f.values, f.components);
   return fields_;
 }
 

@@ -17,20 +17,22 @@ void Reactions::start_constraints(const NodeState& nodes) {
   if (!records_.empty()) free_.assign(nodes.velocity.begin(), nodes.velocity.end());
 }
 
-void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, const GridGeometry& grid, NodeState& nodes,
-                          double time, double dt) {
+void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, Domain& domain, double time, double dt) {
+  NodeState& nodes = domain.nodes;
   const auto record = std::find_if(records_.begin(), records_.end(), [&](const Record& r) { return r.condition == b; });
   if (record == records_.end()) {
-    bc.constrain_velocity(grid, nodes, time);
+    bc.constrain_velocity(domain.grid, nodes, time);
     return;
   }
   before_.assign(nodes.velocity.begin(), nodes.velocity.end());
-  bc.constrain_velocity(grid, nodes, time);
+  bc.constrain_velocity(domain.grid, nodes, time);
   const int D = dim_;
-  std::array<double, 3> momentum{}, held_mass{}, held_momentum{};
-  for (std::size_t I = 0; I < nodes.mass.size(); ++I) {
+  // Per axis: the momentum the constraint adds, the mass it holds and that
+  // mass's momentum; summed in node order, each node by its owner.
+  const Domain::NodeTerms sums = domain.node_sums(3 * D, [&](std::size_t I, double* t) {
     const double m = nodes.mass[I];
-    if (m <= 0) continue;
+    if (m <= 0) return false;
+    bool held = false;
     for (int i = 0; i < D; ++i) {
       const double v = nodes.velocity[I * D + i], free = free_[I * D + i];
       if (v == before_[I * D + i]) continue;  // not this condition's
@@ -38,16 +40,17 @@ void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, const Grid
       // the reaction balances that force, not the damping's.
       const double v_old = nodes.momentum[I * D + i] / m;
       const double damped_force = m * (free - v_old) / dt;
-      momentum[i] += m * (v - v_old) - undamped(damped_force, v_old, damping_) * dt;
-      held_mass[i] += m;
-      held_momentum[i] += m * v;
+      t[i] = m * (v - v_old) - undamped(damped_force, v_old, damping_) * dt;
+      t[D + i] = m;
+      t[2 * D + i] = m * v;
+      held = true;
     }
-  }
+    return held;
+  });
   for (int i = 0; i < D; ++i) {
-    // Sums over nodes, which every process holds whole (communicator.hpp).
-    record->impulse[i] += momentum[i];
-    const double mass = held_mass[i];
-    if (mass > 0) record->displacement[i] += held_momentum[i] / mass * dt;
+    record->impulse[i] += sums[i];
+    const double mass = sums[D + i];
+    if (mass > 0) record->displacement[i] += sums[2 * D + i] / mass * dt;
   }
   record->elapsed += dt;
 }

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "domain.hpp"
 #include "suffuse/boundary_condition.hpp"
 #include "suffuse/scene.hpp"
 
@@ -41,7 +42,7 @@ class Reactions {
   void start_constraints(const NodeState& nodes);
   // Condition `b` constrains the nodes' velocities; if its reaction is
   // recorded, what it changed over the step `dt` is measured.
-  void constrain(std::size_t b, const BoundaryCondition& bc, const GridGeometry& grid, NodeState& nodes,
+  void constrain(std::size_t b, const BoundaryCondition& bc, Domain& domain,
                  double time, double dt);
 
   // Quasi-static steps: record r's condition held the soil with `force` at

@@ -112,13 +112,13 @@ void SaturatedMixture::points_to_grid() {
                              n.liquid_mass.data(),  n.liquid_momentum.data(), n.liquid_force.data(),
                              n.liquid_inertia.data(), node_drag_.data()};
   auto unpack = d_.dim() == 2 ? &unpack_saturated_block<2> : &unpack_saturated_block<3>;
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) { unpack(b, e, block_.data(), nodes); });
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) { unpack(b, e, block_.data(), nodes); });
 }
 
 void SaturatedMixture::integrate_grid(double dt) {
   NodeState& n = d_.nodes;
   auto update = d_.dim() == 2 ? &grid_update_saturated<2> : &grid_update_saturated<3>;
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     update(b, e, dt, damping_, n.mass.data(), n.momentum.data(), n.force.data(), n.liquid_mass.data(),
            n.liquid_momentum.data(), n.liquid_force.data(), n.liquid_inertia.data(), node_drag_.data(),
            n.velocity.data(), n.liquid_velocity.data());
@@ -128,7 +128,7 @@ void SaturatedMixture::integrate_grid(double dt) {
 void SaturatedMixture::accelerations(double dt) {
   NodeState& n = d_.nodes;
   auto acc = d_.dim() == 2 ? &acceleration_kernel<2> : &acceleration_kernel<3>;
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     acc(b, e, dt, n.mass.data(), n.momentum.data(), n.velocity.data(), n.acceleration.data());
     acc(b, e, dt, n.liquid_mass.data(), n.liquid_momentum.data(), n.liquid_velocity.data(),
         n.liquid_acceleration.data());
@@ -167,7 +167,7 @@ void SaturatedMixture::remap() {
   });
   auto unpack = dim == 2 ? &unpack_remap_block<2> : &unpack_remap_block<3>;
   auto velocity = dim == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     unpack(b, e, block_.data(), n.momentum.data(), n.liquid_momentum.data());
     velocity(b, e, n.mass.data(), n.momentum.data(), n.velocity.data());
     velocity(b, e, n.liquid_mass.data(), n.liquid_momentum.data(), n.liquid_velocity.data());
@@ -182,7 +182,7 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
   const std::size_t dim = d_.dim();
   // The nodal Darcy flux q_I = n_I (v_L - v_s)_I, n_I = sum N n rho_L V / sum N rho_L V:
   // one field for the pressure rate (div q) and the transport.
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     for (std::size_t I = b; I < e; ++I) {
       const double inertia = n.liquid_inertia[I];
       const double nI = inertia > 0 ? n.liquid_mass[I] / inertia : 0.0;
@@ -216,7 +216,7 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
                            pts.data(f_.pressure_rate), out[0]);
     });
   });
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     nodal_pressure_rate(b, e, block_.data(), node_pressure_rate_.data());
   });
   auto gather = d_.dim() == 2 ? &g2p_pressure<2> : &g2p_pressure<3>;

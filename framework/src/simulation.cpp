@@ -98,6 +98,11 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   // the serial run's point numbers.
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
   domain_->distribute_points();  // on many processes: each keeps its share
+  // On many processes, the node layers beyond its points' that each process
+  // updates: what the transport's stencils read within a step, and one
+  // layer for the outputs' projection (the points moved since the step's
+  // shape functions, by less than a cell).
+  domain_->set_halo_layers(std::max(1, species_ ? detail::SpeciesTransport::halo_layers : 0));
   if (species_) species_->start_ledger();
   if (scene.integration == TimeIntegration::quasi_static) {
     quasi_static_ = std::make_unique<detail::QuasiStatic>(scene_, *domain_, *materials_, mixture_.get(), bcs_);
@@ -231,7 +236,7 @@ void Simulation::constrain_velocity(double time) {
 void Simulation::constrain_velocity_recording_reactions(double time, double dt) {
   reactions_->start_constraints(domain_->nodes);
   for (std::size_t b = 0; b < bcs_.size(); ++b)
-    reactions_->constrain(b, *bcs_[b], domain_->grid, domain_->nodes, time, dt);
+    reactions_->constrain(b, *bcs_[b], *domain_, time, dt);
 }
 
 void Simulation::step() {

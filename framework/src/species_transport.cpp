@@ -123,15 +123,17 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
                       " face of the grid to the liquid; its outflow would be counted twice: keep one bc/pore_pressure "
                       "or bc/inflow_flux per face");
       opened_by.push_back(pointer);
-      Opening opening{o.face, {}};
+      Opening opening{o.face, {}, {}, {}};
       for (std::int64_t I : face_nodes(d_.grid, o.face)) {
         opening.nodes.push_back({I, face_node_area(d_.grid, o.face, I)});
+        opening.ids.push_back(I);
         const std::size_t k = static_cast<std::size_t>(I) * dim + o.face.axis;
         inflow_liquid_[k] = suspension_density(o.concentration, rho_s, rho_w);
         inflow_fines_[k] = o.concentration * rho_s;
         inflow_carrying_[k] = o.concentration > 0 ? inflow_liquid_[k] : 0.0;  // carries fines, or clean
       }
       discharge_.push_back({grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)], 0, 0, 0, 0});
+      opening.crossed.resize(opening.nodes.size());
       openings_.push_back(std::move(opening));
     }
   }
@@ -203,10 +205,9 @@ void SpeciesTransport::explicit_stage(double dt, const double* liquid, const dou
   const TransportGrid g{d_.grid.nodes_per_axis(), d_.grid.cell_size(), dt, node_pore_.data(), liquid,
                         fines ? fines_at : nullptr, fines ? carrying_at : nullptr, node_darcy_.data(),
                         node_face_.data(), inflow_liquid_.data(), inflow_fines_.data(), inflow_carrying_.data()};
-  const std::size_t nn = d_.grid.node_count();
   auto run = [&](auto transport) {
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
     // Open faces: liquid leaving also counts against a node's content (a
     // quarter: it leaves at the node's mean, see Transport::scale).
     for (const Opening& o : openings_)
@@ -215,28 +216,31 @@ void SpeciesTransport::explicit_stage(double dt, const double* liquid, const dou
             0.25 * std::max(0.0, dt * on.area * o.face.outward() * transport.darcy(on.node, o.face.axis));
     const NodeShares shares{node_per_pore_.data(), node_fines_ratio_.data(), node_carrying_ratio_.data(),
                             node_send_.data(), face_flow_.data()};
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.shares(b, e, node_out_.data(), shares); });
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) { transport.flows(b, e, shares); });
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) { transport.shares(b, e, node_out_.data(), shares); });
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) { transport.flows(b, e, shares); });
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) {
       transport.exchange(b, e, shares, node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
                          node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data());
     });
     // What crossed each account this step, summed in node order (independent
-    // of the chunking): out, in of liquid; out, in of fines.
-    for (auto& a : step) a = {0, 0, 0, 0};
-    for (std::size_t I = 0; I < nn; ++I) {
-      step.back()[0] += node_free_liquid_[I];
-      step.back()[2] += node_free_fines_[I];
-    }
+    // of the chunking and of the processes): out, in of liquid; out, in of fines.
+    const Domain::NodeTerms free = d_.node_sums(2, [&](std::size_t I, double* t) {
+      t[0] = node_free_liquid_[I];
+      t[1] = node_free_fines_[I];
+      return t[0] != 0 || t[1] != 0;
+    });
+    step.back() = {free[0], 0, free[1], 0};
     for (std::size_t k = 0; k < openings_.size(); ++k) {
-      const Opening& o = openings_[k];  // the free surfaces' account is the last
-      for (const OpeningNode& on : o.nodes) {
-        const std::int64_t I = on.node;
+      Opening& o = openings_[k];  // the free surfaces' account is the last
+      for (std::size_t i = 0; i < o.nodes.size(); ++i) {
+        const std::int64_t I = o.nodes[i].node;
+        std::array<double, 4>& crossed = o.crossed[i];
+        crossed = {0, 0, 0, 0};
         if (node_pore_[I] <= 0) continue;
-        const double vol = dt * on.area * o.face.outward() * transport.darcy(I, o.face.axis);
+        const double vol = dt * o.nodes[i].area * o.face.outward() * transport.darcy(I, o.face.axis);
         if (vol > 0) {
           discharge(static_cast<std::size_t>(I), transport.scale(I, node_out_.data()) * vol / node_pore_[I], liquid,
-                    fines_at, carrying_at, step[k]);
+                    fines_at, carrying_at, crossed);
         } else if (vol < 0) {
           // What enters per volume, set once per face node in setup_openings.
           const std::size_t at = static_cast<std::size_t>(I) * dim + o.face.axis;
@@ -244,10 +248,15 @@ void SpeciesTransport::explicit_stage(double dt, const double* liquid, const dou
           node_dliquid_[I] += liquid_in;
           node_dfines_[I] += fines_in;
           node_dcarrying_[I] += -vol * inflow_carrying_[at];
-          step[k][1] += liquid_in;
-          step[k][3] += fines_in;
+          crossed[1] = liquid_in;
+          crossed[3] = fines_in;
         }
       }
+      const Domain::NodeTerms sums = d_.node_sums(4, o.ids, [&](std::size_t i, double* t) {
+        std::copy(o.crossed[i].begin(), o.crossed[i].end(), t);
+        return true;
+      });
+      step[k] = {sums[0], sums[1], sums[2], sums[3]};
     }
   };
   if (dim == 2)
@@ -284,7 +293,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
                      out[0]);
     });
   });
-  d_.exec.for_chunks(d_.grid.node_count(), [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     unpack_species_block(b, e, species_block_.data(), node_pore_.data(), node_liquid_.data(),
                          fines_ ? node_fines_.data() : nullptr, fines_ ? node_carrying_.data() : nullptr);
   });
@@ -297,8 +306,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   if (scheme == TransportScheme::heun) {
     // Heun: U1 = U + D(U); the step's change is (D(U) + D(U1)) / 2, and so is
     // what crossed each account.
-    const std::size_t nn = d_.grid.node_count();
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) {
       for (std::size_t I = b; I < e; ++I) {
         stage_dliquid_[I] = node_dliquid_[I], stage_liquid_[I] = node_liquid_[I] + node_dliquid_[I];
         stage_dfines_[I] = node_dfines_[I], stage_fines_[I] = node_fines_[I] + node_dfines_[I];
@@ -307,7 +315,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
     });
     stage_discharge_ = discharge_step_;
     explicit_stage(dt, stage_liquid_.data(), stage_fines_.data(), stage_carrying_.data(), discharge_step_);
-    d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) {
       for (std::size_t I = b; I < e; ++I) {
         node_dliquid_[I] = 0.5 * (stage_dliquid_[I] + node_dliquid_[I]);
         node_dfines_[I] = 0.5 * (stage_dfines_[I] + node_dfines_[I]);
@@ -328,8 +336,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
                                 fines_ ? pts.data(fines_->concentration) : nullptr,
                                 pts.data(m_.liquid_density),
                                 pts.data(m_.moving_liquid_mass)};
-  const std::size_t nn = d_.grid.node_count();
-  d_.exec.for_chunks(nn, [&](int, std::size_t b, std::size_t e) {
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     share_rates(b, e, 0, node_pore_.data(), node_liquid_.data(), node_dliquid_.data(), share_block_.data());
     if (fines_) {
       share_rates(b, e, 1, node_pore_.data(), node_fines_.data(), node_dfines_.data(), share_block_.data());

@@ -35,6 +35,11 @@ struct FinesFields {
 
 class SpeciesTransport {
  public:
+  // Node layers around a node whose inputs an explicit transport step reads
+  // (Transport: a face's flow reads the node upstream of its upwind node,
+  // and a node's change the faces below it), so that a process's nodes
+  // match the serial run's where its points read them (Domain::set_halo_layers).
+  static constexpr int halo_layers = 2;
   // Fines are tracked when a body holds some, a material erodes, or an inlet brings them.
   static bool tracks_fines(const Scene& scene, const std::vector<LiquidOpening>& openings);
   // The point fields it registers when it tracks fines.
@@ -86,6 +91,8 @@ class SpeciesTransport {
   struct Opening {  // what enters per volume is in inflow_liquid_ / inflow_fines_
     GridFace face;
     std::vector<OpeningNode> nodes;
+    std::vector<std::int64_t> ids;                 // the nodes' numbers
+    std::vector<std::array<double, 4>> crossed;    // per node, this stage: out, in of liquid; out, in of fines
   };
   void setup_openings(const Scene& scene, const SaturatedMixture& mixture,
                       const std::vector<std::unique_ptr<BoundaryCondition>>& bcs);
