@@ -4,6 +4,7 @@
 // partition splits: each process a box of cells with its halo, and the points
 // inside it; the stages of the other parts reach grid and points only through
 // a Domain.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -108,6 +109,15 @@ class Domain {
     const ScatterRange r = node_range();
     exec.for_chunks(r.last - r.first,
                     [&](int t, std::size_t b, std::size_t e) { body(t, r.first + b, r.first + e); });
+  }
+
+  // `v` sized for `per_node` values per node, zero on node_range() (a
+  // scatter's targets: it adds on no other node).
+  void clear_nodal(std::vector<double>& v, std::size_t per_node) const {
+    const ScatterRange r = node_range();
+    v.resize(grid.node_count() * per_node);
+    std::fill(v.begin() + static_cast<std::ptrdiff_t>(r.first * per_node),
+              v.begin() + static_cast<std::ptrdiff_t>(r.last * per_node), 0.0);
   }
 
   // Sums over nodes, in node order, of the k <= 9 terms terms(I, t) writes

@@ -6,7 +6,7 @@ namespace suffuse::detail {
 
 void DryMomentum::points_to_grid() {
   NodeState& n = d_.nodes;
-  block_.assign(d_.grid.node_count() * static_cast<std::size_t>(dry_block), 0.0);
+  d_.clear_nodal(block_, static_cast<std::size_t>(dry_block));
   const auto& f = d_.points.core();
   const Interpolation& s = d_.shape;
   ScatterTargets targets = s.targets(d_.grid.node_count());
@@ -54,7 +54,7 @@ void DryMomentum::grid_to_points(double dt) {
 
 void DryMomentum::remap() {
   NodeState& n = d_.nodes;
-  std::fill(n.momentum.begin(), n.momentum.end(), 0.0);
+  d_.clear_nodal(n.momentum, static_cast<std::size_t>(d_.dim()));
   const auto& f = d_.points.core();
   const Interpolation& s = d_.shape;
   ScatterTargets targets = s.targets(d_.grid.node_count());

@@ -91,7 +91,7 @@ double SaturatedMixture::stable_time_step(const BodySpec& body, const Phase& pha
 void SaturatedMixture::points_to_grid() {
   NodeState& n = d_.nodes;
   const int W = d_.dim() == 2 ? saturated_block<2> : saturated_block<3>;
-  block_.assign(d_.grid.node_count() * static_cast<std::size_t>(W), 0.0);
+  d_.clear_nodal(block_, static_cast<std::size_t>(W));
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const SaturatedPoints pt{pts.data(c.mass),           pts.data(c.volume),
@@ -152,7 +152,7 @@ void SaturatedMixture::grid_to_points(double dt) {
 void SaturatedMixture::remap() {
   NodeState& n = d_.nodes;
   const std::size_t dim = d_.dim();
-  block_.assign(d_.grid.node_count() * 2 * dim, 0.0);
+  d_.clear_nodal(block_, 2 * dim);
   PointSet& pts = d_.points;
   const auto& c = pts.core();
   const Interpolation& s = d_.shape;
@@ -207,7 +207,7 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
   // Pressure smoothing: the pore-pressure rate is averaged over the nodes and
   // interpolated back. Raw point rates carry the checkerboard modes of a
   // nearly incompressible mixture on linear cells (as in Anura3D).
-  block_.assign(d_.grid.node_count() * 2, 0.0);
+  d_.clear_nodal(block_, 2);
   ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {

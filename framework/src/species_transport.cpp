@@ -280,7 +280,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   const double* V = pts.data(pts.core().volume);
   const double* n = pts.data(m_.porosity);
   const Interpolation& s = d_.shape;
-  species_block_.assign(d_.grid.node_count() * species_block, 0.0);
+  d_.clear_nodal(species_block_, species_block);
   ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(species_block_);
   // Whether the run tracks fines is fines_, never these pointers: a process
