@@ -1,9 +1,9 @@
 #pragma once
 // The grid and the material points of a run, and the interpolation between
-// them (shape functions at the points' positions). This is what a later MPI
-// partition splits: each process a box of cells with its halo, and the points
-// inside it; the stages of the other parts reach grid and points only through
-// a Domain.
+// them (shape functions at the points' positions). On many processes each
+// holds its share of the points and updates the nodes they reach and a halo
+// (docs/parallel.md); the stages of the other parts reach grid and points
+// only through a Domain.
 #include <algorithm>
 #include <array>
 #include <cstdint>
