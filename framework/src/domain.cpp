@@ -185,12 +185,15 @@ void Domain::distribute_points() {
 
 // Every process's points, in the serial numbering, into `into` (made on first
 // use): on the first process only, or on every process.
+void Domain::make_copy(std::unique_ptr<PointSet>& into, bool everywhere) {
+  if (into) return;
+  into = std::make_unique<PointSet>(dim());
+  for (FieldId f = 0; f < points.field_count(); ++f) into->add_field(points.info(f));
+  if (everywhere || comm.root()) into->append(total_points_);
+}
+
 void Domain::collect_points(std::unique_ptr<PointSet>& into, bool everywhere) {
-  if (!into) {
-    into = std::make_unique<PointSet>(dim());
-    for (FieldId f = 0; f < points.field_count(); ++f) into->add_field(points.info(f));
-    if (everywhere || comm.root()) into->append(total_points_);
-  }
+  make_copy(into, everywhere);
   const std::vector<std::size_t> counts = comm.all_counts(points.size());
   std::vector<std::size_t> values(counts.size());
   for (FieldId f = 0; f < points.field_count(); ++f) {
@@ -215,6 +218,44 @@ const PointSet& Domain::gathered_points() {
 const PointSet& Domain::every_point() {
   if (!comm.parallel()) return points;
   collect_points(every_, true);
+  return *every_;
+}
+
+const PointSet& Domain::points_at(std::span<const std::size_t> wanted) {
+  if (!comm.parallel()) return points;
+  make_copy(every_, true);
+  const std::vector<std::size_t> counts = comm.all_counts(points.size());
+  std::vector<std::size_t> first(counts.size() + 1, 0);
+  for (std::size_t r = 0; r < counts.size(); ++r) first[r + 1] = first[r] + counts[r];
+  // Each process's wanted points: a contiguous part of `wanted`.
+  auto part = [&](std::size_t r) {
+    const auto lo = std::lower_bound(wanted.begin(), wanted.end(), first[r]);
+    return std::make_pair(lo, std::lower_bound(lo, wanted.end(), first[r + 1]));
+  };
+  std::size_t row = 0;  // values per point, every field
+  for (FieldId f = 0; f < points.field_count(); ++f) row += static_cast<std::size_t>(points.components(f));
+  std::vector<double> mine;
+  const auto [lo, hi] = part(static_cast<std::size_t>(comm.rank()));
+  for (FieldId f = 0; f < points.field_count(); ++f) {
+    const auto m = static_cast<std::size_t>(points.components(f));
+    const double* v = points.data(f);
+    for (auto p = lo; p != hi; ++p) mine.insert(mine.end(), v + (*p - first_point_) * m, v + (*p - first_point_ + 1) * m);
+  }
+  std::vector<std::size_t> values(counts.size());
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    const auto [b, e] = part(r);
+    values[r] = static_cast<std::size_t>(e - b) * row;
+  }
+  comm.all_gather(mine, values, exchanged_);
+  const double* from = exchanged_.data();
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    const auto [b, e] = part(r);
+    for (FieldId f = 0; f < points.field_count(); ++f) {
+      const auto m = static_cast<std::size_t>(points.components(f));
+      double* into = every_->data(f);
+      for (auto p = b; p != e; ++p, from += m) std::copy(from, from + m, into + *p * m);
+    }
+  }
   return *every_;
 }
 

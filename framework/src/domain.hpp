@@ -77,6 +77,10 @@ class Domain {
   // Every process's points on every process (collective): what conditions
   // that load points read on many processes (docs/parallel.md, Limits).
   const PointSet& every_point();
+  // The same set with only the points `wanted` (serial numbers, ascending)
+  // brought up to date (collective): what a condition that names the points
+  // it loads reads (BoundaryCondition::loaded_points).
+  const PointSet& points_at(std::span<const std::size_t> wanted);
 
   // Stage "shape": shape functions at the points' positions. Throws, naming
   // the point and its body, if a point left the grid.
@@ -167,6 +171,7 @@ class Domain {
  private:
   void locate_cells();  // the cell of every point, at the start of the step
   void collect_points(std::unique_ptr<PointSet>& into, bool everywhere);
+  void make_copy(std::unique_ptr<PointSet>& into, bool everywhere);
 
   std::unique_ptr<ShapeFunction> shape_function_;
   std::size_t total_points_ = 0, first_point_ = 0;

@@ -97,6 +97,18 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   // Every point still on every process: conditions that load points keep
   // the serial run's point numbers.
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
+  // The points whose fields the loads read on many processes (apply_loads).
+  for (const auto& bc : bcs_) {
+    if (!bc->loads_points()) continue;
+    const std::vector<std::size_t> loaded = bc->loaded_points();
+    load_every_point_ = load_every_point_ || loaded.empty();
+    loaded_points_.insert(loaded_points_.end(), loaded.begin(), loaded.end());
+  }
+  std::sort(loaded_points_.begin(), loaded_points_.end());
+  loaded_points_.erase(std::unique(loaded_points_.begin(), loaded_points_.end()), loaded_points_.end());
+  if (!loaded_points_.empty() && loaded_points_.back() >= domain_->points.size())
+    throw Error("a boundary condition names point " + std::to_string(loaded_points_.back()) + " among those it loads, of " +
+                std::to_string(domain_->points.size()));
   domain_->distribute_points();  // on many processes: each keeps its share
   // On many processes, the node layers beyond its points' that each process
   // updates: what the transport's stencils read within a step, and one
@@ -223,7 +235,7 @@ void Simulation::apply_loads(double time) {
     if (!domain_->comm.parallel()) {
       bc->apply_point_forces(domain_->grid, domain_->points, domain_->nodes, time);
     } else if (bc->loads_points()) {
-      if (!every) every = &domain_->every_point();
+      if (!every) every = load_every_point_ ? &domain_->every_point() : &domain_->points_at(loaded_points_);
       bc->apply_point_forces(domain_->grid, *every, domain_->nodes, time);
     }
   }

@@ -54,9 +54,14 @@ class BoundaryCondition {
   }
   // True for a condition that overrides setup_points or apply_point_forces.
   // On many processes (docs/parallel.md) setup_points sees every point, and
-  // apply_point_forces every point (gathered each step) on every process:
-  // a condition that returns false is not called on many processes.
+  // apply_point_forces the points it reads (gathered each step) on every
+  // process: a condition that returns false is not called on many processes.
   virtual bool loads_points() const { return false; }
+  // The points (numbers as setup_points saw them, ascending) whose fields
+  // apply_point_forces reads; asked once, after setup_points. On many
+  // processes only these points' fields are gathered each step (the others
+  // hold stale values); empty, the default: every point's.
+  virtual std::vector<std::size_t> loaded_points() const { return {}; }
 };
 
 }  // namespace suffuse

@@ -195,6 +195,10 @@ class Simulation {
   void create_bodies();
   std::vector<double> unit_weights() const;
   void apply_loads(double time);  // boundary conditions' external forces
+  // The points the conditions that load points read (serial numbers), or
+  // every point if one of them does not say (BoundaryCondition::loaded_points).
+  std::vector<std::size_t> loaded_points_;
+  bool load_every_point_ = false;
   void constrain_velocity(double time);
   // The same, measuring the reactions the scene asks for (the grid update's).
   void constrain_velocity_recording_reactions(double time, double dt);

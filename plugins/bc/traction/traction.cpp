@@ -96,6 +96,7 @@ class TractionBC final : public suffuse::BoundaryCondition {
   // over the face's extent across it (as uGIMP averages over a point's box).
   // A node beyond the grid passes its weight to its neighbour inside.
   bool loads_points() const override { return true; }
+  std::vector<std::size_t> loaded_points() const override { return points_; }
 
   void apply_point_forces(const suffuse::GridGeometry& grid, const suffuse::PointSet& points, suffuse::NodeState& state,
                           double time) const override {
