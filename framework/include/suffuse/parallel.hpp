@@ -21,7 +21,7 @@ class ParallelProcesses {
   [[noreturn]] void abort(int code) const;
 
  private:
-  bool started_ = false;
+  [[maybe_unused]] bool started_ = false;  // MPI started here (builds with MPI)
   int rank_ = 0, size_ = 1;
 };
 
