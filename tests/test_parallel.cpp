@@ -35,15 +35,15 @@ std::string slurp(const fs::path& file) {
 }
 
 // `suffuse run` of `scene` into `out` on `processes` processes (1: without
-// mpirun); its exit status, its output in out/log.
-int run(const fs::path& scene, const fs::path& out, int processes) {
+// mpirun), `threads` threads each; its exit status, its output in out/log.
+int run(const fs::path& scene, const fs::path& out, int processes, int threads = 1) {
   fs::create_directories(out);
   std::string command;
   if (processes > 1)
     command = std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + SUFFUSE_MPIEXEC +
               " --oversubscribe -np " + std::to_string(processes) + " ";
-  command += std::string(SUFFUSE_EXECUTABLE) + " run " + scene.string() + " --output " + out.string() + " > " +
-             (out / "log").string() + " 2>&1";
+  command += std::string(SUFFUSE_EXECUTABLE) + " run " + scene.string() + " --output " + out.string() +
+             " --threads " + std::to_string(threads) + " > " + (out / "log").string() + " 2>&1";
   return WEXITSTATUS(std::system(command.c_str()));
 }
 
@@ -178,6 +178,10 @@ TEST(Parallel, FallingBlockEqualsSerial) {
   scene["bodies"][0]["velocity"] = {0.0, -10.0};
   scene["time"]["end"] = 0.2;
   expect_equal_to_serial("falling_block", scene, {2, 3});
+  // Threads within processes: each process's nodal loops split its range.
+  const fs::path dir = fs::temp_directory_path() / "suffuse_parallel_falling_block";
+  ASSERT_EQ(run(dir / "falling_block.json", dir / "np2x2", 2, 2), 0) << slurp(dir / "np2x2" / "log");
+  EXPECT_TRUE(slurp(dir / "np2x2" / "falling_block.checkpoint") == slurp(dir / "serial" / "falling_block.checkpoint"));
 }
 
 // 3D: 200,704 points, trilinear, two phases with erosion and transport.
