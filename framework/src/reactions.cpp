@@ -13,8 +13,21 @@ Reactions::Reactions(const std::vector<ReactionSpec>& specs, int dim, double dam
   for (const ReactionSpec& s : specs) records_.push_back({s.condition, s.name});
 }
 
-void Reactions::start_constraints(const NodeState& nodes) {
-  if (!records_.empty()) free_.assign(nodes.velocity.begin(), nodes.velocity.end());
+namespace {
+// The nodal velocities of the nodes this process updates (the others are
+// never read: Domain::node_sums takes only nodes a process owns).
+void copy_velocities(const Domain& domain, std::vector<double>& into) {
+  const std::vector<double>& v = domain.nodes.velocity;
+  const ScatterRange r = domain.node_range();
+  const auto D = static_cast<std::size_t>(domain.dim());
+  into.resize(v.size());
+  std::copy(v.begin() + static_cast<std::ptrdiff_t>(r.first * D), v.begin() + static_cast<std::ptrdiff_t>(r.last * D),
+            into.begin() + static_cast<std::ptrdiff_t>(r.first * D));
+}
+}  // namespace
+
+void Reactions::start_constraints(const Domain& domain) {
+  if (!records_.empty()) copy_velocities(domain, free_);
 }
 
 void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, Domain& domain, double time, double dt) {
@@ -24,7 +37,7 @@ void Reactions::constrain(std::size_t b, const BoundaryCondition& bc, Domain& do
     bc.constrain_velocity(domain.grid, nodes, time);
     return;
   }
-  before_.assign(nodes.velocity.begin(), nodes.velocity.end());
+  copy_velocities(domain, before_);
   bc.constrain_velocity(domain.grid, nodes, time);
   const int D = dim_;
   // Per axis: the momentum the constraint adds, the mass it holds and that

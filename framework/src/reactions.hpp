@@ -39,7 +39,7 @@ class Reactions {
 
   bool empty() const { return records_.empty(); }
   // Before the step's first constraint: the free velocities of the grid update.
-  void start_constraints(const NodeState& nodes);
+  void start_constraints(const Domain& domain);
   // Condition `b` constrains the nodes' velocities; if its reaction is
   // recorded, what it changed over the step `dt` is measured.
   void constrain(std::size_t b, const BoundaryCondition& bc, Domain& domain,

@@ -246,7 +246,7 @@ void Simulation::constrain_velocity(double time) {
 }
 
 void Simulation::constrain_velocity_recording_reactions(double time, double dt) {
-  reactions_->start_constraints(domain_->nodes);
+  reactions_->start_constraints(*domain_);
   for (std::size_t b = 0; b < bcs_.size(); ++b)
     reactions_->constrain(b, *bcs_[b], *domain_, time, dt);
 }
