@@ -69,7 +69,8 @@ Domain::NodeTerms Domain::sum_node_terms() {
   const std::size_t n = records->size() / width;
   std::vector<std::size_t> order(n);
   for (std::size_t i = 0; i < n; ++i) order[i] = i;
-  // Each process's records ascend; the processes' own interleaved ranges.
+  // Each process's records ascend, but the nodes processes own may
+  // interleave (ScatterRanges::owned): into node order.
   if (comm.parallel())
     std::sort(order.begin(), order.end(),
               [&](std::size_t a, std::size_t b) { return (*records)[a * width] < (*records)[b * width]; });
@@ -183,7 +184,7 @@ void Domain::distribute_points() {
   exec.distribute(comm, total, begin, end - begin);
 }
 
-// Every process's points, in the serial numbering, into `into` (made on first
+// A copy of every point's fields, in the serial numbering (made on first
 // use): on the first process only, or on every process.
 void Domain::make_copy(std::unique_ptr<PointSet>& into, bool everywhere) {
   if (into) return;
@@ -192,6 +193,7 @@ void Domain::make_copy(std::unique_ptr<PointSet>& into, bool everywhere) {
   if (everywhere || comm.root()) into->append(total_points_);
 }
 
+// Every process's points into that copy.
 void Domain::collect_points(std::unique_ptr<PointSet>& into, bool everywhere) {
   make_copy(into, everywhere);
   const std::vector<std::size_t> counts = comm.all_counts(points.size());
