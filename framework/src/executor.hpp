@@ -445,12 +445,19 @@ class Executor {
       }
       return;
     }
-    offsets_.assign(chunks + 1, 0);
-    for (std::size_t c = 1; c < chunks; ++c) offsets_[c + 1] = offsets_[c] + (all[c].last - all[c].first) * width;
-    if (buffer_.size() < offsets_[chunks]) buffer_.resize(offsets_[chunks]);
-    // Each chunk's buffer at the place it has among all chunks' buffers, the
-    // arrays one after another, each indexed by entry as the targets are
-    // (chunk 0: the targets).
+    // Buffers for this process's chunks and those whose entries it needs
+    // only: their sum over all chunks would grow with the whole grid.
+    offsets_.assign(chunks, 0);
+    std::size_t held = 0;
+    for (std::size_t c = 1; c < chunks; ++c) {
+      const ScatterRange needed_here = overlap(c, me);
+      if ((c < first || c >= first + mine) && needed_here.first >= needed_here.last) continue;
+      offsets_[c] = held;
+      held += (all[c].last - all[c].first) * width;
+    }
+    if (buffer_.size() < held) buffer_.resize(held);
+    // Each such chunk's buffer: the arrays one after another, each indexed
+    // by entry as the targets are (chunk 0: the targets).
     auto parts = [&](std::size_t c) {
       std::array<double*, ScatterTargets::capacity> part{};
       double* next = buffer_.data() + offsets_[c];
@@ -462,7 +469,7 @@ class Executor {
     };
     for_chunks(mine, [&](int, std::size_t kb, std::size_t ke) {
       for (std::size_t c = first + kb; c < first + ke; ++c) {
-        if (c > 0) std::fill(buffer_.data() + offsets_[c], buffer_.data() + offsets_[c + 1], 0.0);
+        if (c > 0) std::fill_n(buffer_.data() + offsets_[c], (all[c].last - all[c].first) * width, 0.0);
         run(c, parts(c).data());
       }
     });
