@@ -48,7 +48,7 @@ ScatterRange Domain::node_range() const {
 
 const std::vector<ScatterRange>& Domain::owned_nodes(const Interpolation& s) const {
   if (!comm.parallel()) return all_nodes_;
-  if (s.chunks.owned.size() != static_cast<std::size_t>(comm.size()))
+  if (!owners_known(s))
     throw Error("internal: the nodes' owners are asked for before the shape functions were evaluated");
   return s.chunks.owned[static_cast<std::size_t>(comm.rank())];
 }

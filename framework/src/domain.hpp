@@ -153,8 +153,12 @@ class Domain {
     }
     return sum_node_terms();
   }
-  // The nodes this process owns among those `s` reaches (one process: all).
+  // The nodes this process owns among those `s` reaches (one process: all),
+  // once `s` was evaluated (owners_known).
   const std::vector<ScatterRange>& owned_nodes(const Interpolation& s) const;
+  bool owners_known(const Interpolation& s) const {
+    return !comm.parallel() || s.chunks.owned.size() == static_cast<std::size_t>(comm.size());
+  }
   // On many processes, nodal values (`components` per node) made on every
   // process through `s`, on the first process: each owned node's from its
   // owner, zero at nodes no point reaches (as in the serial run).

@@ -65,7 +65,13 @@ const std::vector<GridField>& GridProjection::project(Domain& d) {
   }
   // On many processes each node's values are complete on the processes
   // whose points reach it: its owner's go to the first process, which writes.
-  for (GridField& f : fields_) d.gather_nodal_to_root(shape_, f.values, f.components);
+  // The Darcy flux is the step's, complete where the step's shape functions
+  // reached (the points have moved since); before the first step it is
+  // zero everywhere, as in the serial run.
+  for (std::size_t k = 0; k < fields_.size(); ++k) {
+    const Interpolation& made_by = mixture_ && k == 4 ? d.shape : shape_;
+    if (d.owners_known(made_by)) d.gather_nodal_to_root(made_by, fields_[k].values, fields_[k].components);
+  }
   return fields_;
 }
 

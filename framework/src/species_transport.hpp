@@ -35,10 +35,13 @@ struct FinesFields {
 
 class SpeciesTransport {
  public:
-  // Node layers around a node whose inputs an explicit transport step reads
-  // (Transport: a face's flow reads the node upstream of its upwind node,
-  // and a node's change the faces below it), so that a process's nodes
-  // match the serial run's where its points read them (Domain::set_halo_layers).
+  // Node layers around a node whose inputs one explicit (forward Euler)
+  // transport step reads (Transport: a face's flow reads the node upstream
+  // of its upwind node, and a node's change the faces below it), so that a
+  // process's nodes match the serial run's where its points read them
+  // (Domain::set_halo_layers). Heun's second stage would read twice as far
+  // and the backward-Euler solve the whole grid: both run in quasi-static
+  // mode only, which runs on one process.
   static constexpr int halo_layers = 2;
   // Fines are tracked when a body holds some, a material erodes, or an inlet brings them.
   static bool tracks_fines(const Scene& scene, const std::vector<LiquidOpening>& openings);
