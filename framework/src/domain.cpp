@@ -67,16 +67,21 @@ Domain::NodeTerms Domain::sum_node_terms() {
     records = &all_node_terms_;
   }
   const std::size_t n = records->size() / width;
-  std::vector<std::size_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  NodeTerms sum{};
+  auto add = [&](std::size_t i) {
+    for (std::size_t k = 1; k < width; ++k) sum[k - 1] += (*records)[i * width + k];
+  };
+  if (!comm.parallel()) {  // one process's records ascend
+    for (std::size_t i = 0; i < n; ++i) add(i);
+    return sum;
+  }
   // Each process's records ascend, but the nodes processes own may
   // interleave (ScatterRanges::owned): into node order.
-  if (comm.parallel())
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t a, std::size_t b) { return (*records)[a * width] < (*records)[b * width]; });
-  NodeTerms sum{};
-  for (const std::size_t i : order)
-    for (std::size_t k = 1; k < width; ++k) sum[k - 1] += (*records)[i * width + k];
+  node_order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) node_order_[i] = i;
+  std::sort(node_order_.begin(), node_order_.end(),
+            [&](std::size_t a, std::size_t b) { return (*records)[a * width] < (*records)[b * width]; });
+  for (const std::size_t i : node_order_) add(i);
   return sum;
 }
 

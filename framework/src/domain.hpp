@@ -199,6 +199,7 @@ class Domain {
   NodeTerms sum_node_terms();
   int node_term_count_ = 0;
   std::vector<double> node_terms_, all_node_terms_;
+  std::vector<std::size_t> node_order_;  // kept: sums over nodes run every step
   std::vector<ScatterRange> all_nodes_;  // one process: every node
   std::vector<NodeId> point_cell_;
   ScatterRanges point_cell_chunks_;
