@@ -61,6 +61,20 @@ double Communicator::min(double local) const {
   return out;
 }
 
+double Communicator::max(double local) const { return -min(-local); }
+
+void Communicator::sum(std::span<double> values) const {
+  if (!parallel()) return;
+  // In slices: MPI counts are ints.
+  constexpr std::size_t slice = std::size_t{1} << 26;
+  for (std::size_t first = 0; first < values.size(); first += slice) {
+    const int n = static_cast<int>(std::min(slice, values.size() - first));
+    double* v = values.data() + first;
+    MPI_Reduce(root() ? MPI_IN_PLACE : v, root() ? v : nullptr, n, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Bcast(v, n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  }
+}
+
 bool Communicator::any(bool local) const {
   if (!parallel()) return local;
   int mine = local ? 1 : 0, out = 0;
@@ -132,6 +146,8 @@ void Communicator::abort(int code) const {
 
 Communicator::Communicator() = default;
 double Communicator::min(double local) const { return local; }
+double Communicator::max(double local) const { return local; }
+void Communicator::sum(std::span<double>) const {}
 bool Communicator::any(bool local) const { return local; }
 std::vector<std::size_t> Communicator::all_counts(std::size_t mine) const { return {mine}; }
 void Communicator::all_gather(std::span<const double> mine, const std::vector<std::size_t>&,
@@ -154,6 +170,7 @@ void Communicator::abort(int code) const { std::exit(code); }
 
 // ---------------------------------------------------------------------------
 
+#include "distributed_system.hpp"
 #include "suffuse/parallel.hpp"
 
 namespace suffuse {
@@ -197,6 +214,7 @@ ParallelProcesses::ParallelProcesses(int& argc, char**& argv) {
 
 ParallelProcesses::~ParallelProcesses() {
 #ifdef SUFFUSE_MPI
+  detail::finalize_distributed_systems();  // PETSc ends within MPI
   if (started_) MPI_Finalize();
 #endif
 }

@@ -27,7 +27,12 @@ class Communicator {
 
   // Over every process, the same on each. (Sums over points: Executor::totals.)
   double min(double local) const;
+  double max(double local) const;
   bool any(bool local) const;
+  // Element-wise sums of every process's `values`, in place, the same bits
+  // on every process (summed on the first, then broadcast: an all-reduce may
+  // round differently on different processes, and their decisions must agree).
+  void sum(std::span<double> values) const;
 
   // Every process's `mine` (counts[r] values from rank r), concatenated in
   // rank order into `all` (resized to the total), on every process.

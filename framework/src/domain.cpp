@@ -86,12 +86,23 @@ Domain::NodeTerms Domain::sum_node_terms() {
 }
 
 void Domain::gather_nodal_to_root(const Interpolation& s, std::vector<double>& values, int components) {
+  gather_nodal(s, values, components, false);
+}
+
+void Domain::gather_nodal_to_all(const Interpolation& s, std::vector<double>& values, int components) {
+  gather_nodal(s, values, components, true);
+}
+
+void Domain::gather_nodal(const Interpolation& s, std::vector<double>& values, int components, bool everywhere) {
   if (!comm.parallel()) return;
   const auto m = static_cast<std::size_t>(components);
   std::vector<double> mine;
   for (const ScatterRange& r : owned_nodes(s)) mine.insert(mine.end(), values.begin() + r.first * m, values.begin() + r.last * m);
-  comm.gather_to_root(mine, comm.all_counts(mine.size()), exchanged_);
-  if (!comm.root()) return;
+  if (everywhere)
+    comm.all_gather(mine, comm.all_counts(mine.size()), exchanged_);
+  else
+    comm.gather_to_root(mine, comm.all_counts(mine.size()), exchanged_);
+  if (!everywhere && !comm.root()) return;
   std::fill(values.begin(), values.end(), 0.0);
   const double* from = exchanged_.data();
   for (const std::vector<ScatterRange>& owned : s.chunks.owned)

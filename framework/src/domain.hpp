@@ -163,6 +163,8 @@ class Domain {
   // process through `s`, on the first process: each owned node's from its
   // owner, zero at nodes no point reaches (as in the serial run).
   void gather_nodal_to_root(const Interpolation& s, std::vector<double>& values, int components);
+  // The same on every process (collective): every node's value everywhere.
+  void gather_nodal_to_all(const Interpolation& s, std::vector<double>& values, int components);
 
   Communicator comm;
   GridGeometry grid;
@@ -175,6 +177,7 @@ class Domain {
  private:
   void locate_cells();  // the cell of every point, at the start of the step
   void collect_points(std::unique_ptr<PointSet>& into, bool everywhere);
+  void gather_nodal(const Interpolation& s, std::vector<double>& values, int components, bool everywhere);
   void make_copy(std::unique_ptr<PointSet>& into, bool everywhere);
 
   std::unique_ptr<ShapeFunction> shape_function_;

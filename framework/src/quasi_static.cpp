@@ -23,9 +23,11 @@ constexpr double min_cover = 1e-4;
 }  // namespace
 
 QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& materials, SaturatedMixture* mixture,
-                         const std::vector<std::unique_ptr<BoundaryCondition>>& bcs)
+                         const std::vector<std::unique_ptr<BoundaryCondition>>& bcs, ApplyLoads apply_loads)
     : scene_(scene), d_(domain), materials_(materials), mixture_(mixture), bcs_(bcs),
-      linear_(std::make_unique<Linear>()) {
+      apply_loads_(std::move(apply_loads)), linear_(std::make_unique<Linear>()) {
+  if (d_.comm.parallel())
+    linear_->distributed = std::make_unique<DistributedSystem>(d_.comm, "the quasi-static step's solve", "suffuse_qs_");
   const std::size_t nn = d_.grid.node_count();
   const int dim = d_.dim();
   probe_.resize(nn, dim, mixture_ != nullptr);
@@ -35,7 +37,7 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
   for (std::size_t m = 0; m < scene.materials.size(); ++m) modulus_.push_back(materials.phase(m).p_wave_modulus());
   std::size_t cells = 1;
   for (int a = 0; a < dim; ++a) cells *= static_cast<std::size_t>(d_.grid.cells()[a]);
-  cell_count_.assign(cells, 0);
+  cell_count_.assign(cells, 0.0);
 }
 
 QuasiStatic::~QuasiStatic() = default;
@@ -71,7 +73,7 @@ void QuasiStatic::prepare(double time, double dt) {
   for (auto* v : {&node_mass_, &node_pore_, &node_volume_, &p_}) std::fill(v->begin(), v->end(), 0.0);
   node_cover_.assign(nn, 0.0);
   std::fill(f_ext_.begin(), f_ext_.end(), 0.0);
-  std::fill(cell_count_.begin(), cell_count_.end(), 0);
+  std::fill(cell_count_.begin(), cell_count_.end(), 0.0);
   const auto& g = scene_.gravity;
   creep_.assign(nn * dim, 0.0);  // none until a point has no stiffness (assemble)
   for (std::size_t p = 0; p < pts.size(); ++p) {
@@ -98,6 +100,8 @@ void QuasiStatic::prepare(double time, double dt) {
     }
     ++cell_count_[cell];
   }
+  for (auto* v : {&node_mass_, &node_cover_, &f_ext_, &node_pore_, &node_volume_, &p_, &cell_count_})
+    sum_over_processes(*v);
   for (std::size_t I = 0; I < nn; ++I)
     if (node_volume_[I] > 0) p_[I] /= node_volume_[I];
 
@@ -111,10 +115,7 @@ void QuasiStatic::prepare(double time, double dt) {
     probe_.liquid_mass = node_pore_;  // their ratio is the nodal porosity
     probe_.liquid_inertia = node_volume_;
   }
-  for (const auto& bc : bcs_) {
-    bc->apply_forces(d_.grid, probe_, t1);
-    bc->apply_point_forces(d_.grid, pts, probe_, t1);
-  }
+  apply_loads_(probe_, t1);
   held_.assign(bcs_.size(), {});
   for (std::size_t b = 0; b < bcs_.size(); ++b) {
     const bool recorded = std::any_of(scene_.reactions.begin(), scene_.reactions.end(),
@@ -136,6 +137,7 @@ void QuasiStatic::prepare(double time, double dt) {
   double cell_volume = 1;
   for (int a = 0; a < dim; ++a) cell_volume *= d_.grid.cell_size()[a];
   u_dof_.assign(nn * dim, -1);
+  const bool root = d_.comm.root();  // where the terms every process knows are added (once)
   for (std::size_t I = 0; I < nn; ++I)
     for (int i = 0; i < dim; ++i) {
       const std::size_t k = I * dim + i;
@@ -167,6 +169,7 @@ void QuasiStatic::prepare(double time, double dt) {
 
   // Pressure unknowns: nodes with pore volume, unless a face open to the
   // liquid or a free surface fixes their pressure.
+  displacement_equations_ = equations_;
   p_dof_.assign(nn, -1);
   b_p_.assign(nn, 0.0);
   if (!mixture_) return;
@@ -183,7 +186,7 @@ void QuasiStatic::prepare(double time, double dt) {
         if (!std::isnan(probe_.liquid_velocity[k]) && !std::isnan(probe_.velocity[k])) {
           // A prescribed flux: n (v_L - v_s) enters against the outward normal.
           const double nI = node_pore_[I] / node_volume_[I];
-          b_p_[I] -= dt * f.outward() * nI * (probe_.liquid_velocity[k] - probe_.velocity[k]) * area;
+          if (root) b_p_[I] -= dt * f.outward() * nI * (probe_.liquid_velocity[k] - probe_.velocity[k]) * area;
         } else if (!fixed[I]) {
           fixed[I] = 1;  // the pressure whose traction -p n the condition applied
           p_[I] = -probe_.liquid_force[k] * f.outward() / area;
@@ -237,6 +240,7 @@ void QuasiStatic::prepare(double time, double dt) {
       b_p_[I] += s.weights[q] * storage + dt * V[p] * k * rho_l[p] * g_dot;
     }
   }
+  sum_over_processes(b_p_);
 }
 
 void QuasiStatic::follow_tail_nodes() {
@@ -265,6 +269,19 @@ void QuasiStatic::follow_tail_nodes() {
       const double c = s.weights[q] * m[p];
       tail_weight_[I] += c;
       for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] += c * du[i] / w;
+    }
+  }
+  if (d_.comm.parallel()) {  // the tail nodes' sums only
+    std::vector<double> sums;
+    for (const std::int64_t I : tail_nodes_) {
+      sums.push_back(tail_weight_[I]);
+      for (int i = 0; i < dim; ++i) sums.push_back(tail_sum_[I * dim + i]);
+    }
+    sum_over_processes(sums);
+    std::size_t at = 0;
+    for (const std::int64_t I : tail_nodes_) {
+      tail_weight_[I] = sums[at++];
+      for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] = sums[at++];
     }
   }
   for (const std::int64_t I : tail_nodes_)
@@ -296,7 +313,8 @@ double QuasiStatic::evaluate(double dt) {
   std::vector<double>& f_int = f_int_;
   f_int.assign(nn * dim, 0.0);
   std::vector<double>& r_p = r_p_;
-  r_p = b_p_;
+  r_p = b_p_;  // every process's sum: the others add their points' terms only
+  if (!d_.comm.root()) std::fill(r_p.begin(), r_p.end(), 0.0);
   point_pressure_.assign(pts.size(), 0.0);
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const bool wet = n && n[p] > 0;
@@ -329,6 +347,8 @@ double QuasiStatic::evaluate(double dt) {
       r_p[I] -= s.weights[q] * V[p] * (n[p] / KL[p] * pp + div_u) + dt * V[p] * k * flow;
     }
   }
+  sum_over_processes(f_int);
+  if (mixture_) sum_over_processes(r_p);
   double r2 = 0, f2 = 0, i2 = 0;
   for (std::size_t I = 0; I < nn; ++I)
     for (int i = 0; i < dim; ++i) {
@@ -368,7 +388,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
   // so that forces and liquid volumes count alike.
   auto merit = [&] {
     double sum = 0;
-    for (std::size_t e = 0; e < equations_; ++e) sum += std::pow(L.scale[static_cast<Eigen::Index>(e)] * residual_[e], 2);
+    for (std::size_t e = 0; e < equations_; ++e) sum += std::pow(L.scale_of(e) * residual_[e], 2);
     return std::sqrt(sum);
   };
   std::vector<double>& du0 = du_previous_;
@@ -440,7 +460,7 @@ QuasiStatic::Held QuasiStatic::held_by(std::size_t b) const {
     moved[i] += node_mass_[I] * du_[k];
   }
   for (std::size_t i = 0; i < dim; ++i) {
-    const double m = mass[i];  // sums over nodes (one process: refused on more, simulation.cpp)
+    const double m = mass[i];  // every process holds every node's (sum_over_processes)
     if (m > 0) held.displacement[i] = moved[i] / m;
   }
   return held;
@@ -469,17 +489,21 @@ void QuasiStatic::describe_failure() {
   }
   // Points whose tangent is zero: at the apex of a yield surface, or separated.
   const double* x = d_.points.data(d_.points.core().position);
-  std::size_t stiffless = 0;
+  std::vector<double> stiffless_count{0.0};
   std::array<double, 3> lo{}, hi{};
+  lo.fill(std::numeric_limits<double>::infinity());
+  hi.fill(-std::numeric_limits<double>::infinity());
   for (std::size_t p = 0; p < d_.points.size() && tangent_.size() >= (p + 1) * 36; ++p) {
     if (!without_stiffness(&tangent_[p * 36])) continue;
     for (int a = 0; a < dim; ++a) {
-      const double v = x[p * dim + a];
-      lo[a] = stiffless ? std::min(lo[a], v) : v;
-      hi[a] = stiffless ? std::max(hi[a], v) : v;
+      lo[a] = std::min(lo[a], x[p * dim + a]);
+      hi[a] = std::max(hi[a], x[p * dim + a]);
     }
-    ++stiffless;
+    stiffless_count[0] += 1;
   }
+  sum_over_processes(stiffless_count);
+  for (int a = 0; a < dim; ++a) lo[a] = d_.comm.min(lo[a]), hi[a] = d_.comm.max(hi[a]);
+  const auto stiffless = static_cast<std::size_t>(stiffless_count[0]);
   if (stiffless > 0) {
     out << "; " << stiffless << " material point" << (stiffless > 1 ? "s" : "")
         << " had no stiffness at the last iteration (a stress at the apex of the yield surface, or separated), between ";
@@ -560,6 +584,8 @@ void QuasiStatic::update_points(double dt) {
       for (int i = 0; i < dim; ++i) node_q[I * dim + i] += s.weights[k2] * V[p] * q[p * dim + i];
     }
   }
+  sum_over_processes(node_volume_);  // every node's flux on every process: the transport's nodes follow the points
+  sum_over_processes(node_q);
   for (std::size_t I = 0; I < node_volume_.size(); ++I)
     for (int i = 0; i < dim; ++i) node_q[I * dim + i] = node_volume_[I] > 0 ? node_q[I * dim + i] / node_volume_[I] : 0.0;
   // Through a face whose pressure is prescribed, the flux is what the
@@ -586,7 +612,7 @@ double QuasiStatic::transport_rate() const {
     for (int i = 0; i < dim; ++i) rate += std::abs(q[p * dim + i]) / (n[p] * d_.grid.cell_size()[i]);
     worst = std::max(worst, rate);
   }
-  return worst;
+  return d_.comm.max(worst);
 }
 
 }  // namespace suffuse::detail

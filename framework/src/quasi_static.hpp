@@ -40,7 +40,14 @@
 // -p n A) or brings the flux it constrains (bc/inflow_flux); grid faces
 // closed to the liquid are impermeable; a free surface (a node next to a
 // cell without saturated points) is drained, p = 0, as in explicit runs.
+//
+// On many processes (docs/parallel.md) each process adds its own points'
+// terms; the nodal sums (masses, loads, forces, residuals) are then summed
+// over the processes, so every process holds every node's and takes the same
+// decisions (the unknowns, the line search, convergence). The matrix is
+// PETSc's (DistributedSystem), each process adding its points' blocks.
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -55,8 +62,12 @@ namespace suffuse::detail {
 
 class QuasiStatic {
  public:
+  // `apply_loads` adds the conditions' forces at a time to nodes (the
+  // simulation's: on many processes the points a condition loads are read
+  // in the serial numbering).
+  using ApplyLoads = std::function<void(NodeState&, double)>;
   QuasiStatic(const Scene& scene, Domain& domain, const Materials& materials, SaturatedMixture* mixture,
-              const std::vector<std::unique_ptr<BoundaryCondition>>& bcs);
+              const std::vector<std::unique_ptr<BoundaryCondition>>& bcs, ApplyLoads apply_loads);
   ~QuasiStatic();
 
   // Stage "solve": the equilibrium at time + dt. Returns the iterations it
@@ -109,7 +120,10 @@ class QuasiStatic {
   const Materials& materials_;
   SaturatedMixture* mixture_;  // null in dry runs
   const std::vector<std::unique_ptr<BoundaryCondition>>& bcs_;
+  ApplyLoads apply_loads_;
   std::unique_ptr<Linear> linear_;
+  // Nodal sums of the points' terms over the processes (one process: nothing).
+  void sum_over_processes(std::vector<double>& v) const { d_.comm.sum(v); }
 
   std::vector<std::vector<double>> saved_;  // the stress state at the start of the step
   std::vector<double> tangent_;             // 36 per point
@@ -132,7 +146,7 @@ class QuasiStatic {
   std::vector<double> creep_;                // per node component: the regularising stiffness
   std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual
   std::vector<double> point_pressure_;       // p interpolated at the points (saturated ones)
-  std::vector<int> cell_count_;              // saturated points per cell
+  std::vector<double> cell_count_;           // saturated points per cell
   std::vector<char> fixed_pressure_;         // per node: its pressure is prescribed
   // Nodes whose pressure one face open to the liquid prescribes: the flux
   // through that face, from their pressure equation's residual.
@@ -156,7 +170,7 @@ class QuasiStatic {
   std::size_t stencil_slots_ = 1;
   std::vector<double> modulus_;              // per material: the P-wave modulus, for the creep term
   double force_scale_ = 0;
-  std::size_t equations_ = 0;
+  std::size_t equations_ = 0, displacement_equations_ = 0;  // the displacements' come first
   std::string failure_;
 };
 

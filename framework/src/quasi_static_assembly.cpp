@@ -90,7 +90,7 @@ void QuasiStatic::prepare_blocks() {
   const std::size_t b = static_cast<std::size_t>(dim + 1) * (dim + 1);
   blocks_.assign(block_nodes_.size() * stencil_slots_ * b, 0.0);
   block_used_.assign(block_nodes_.size() * stencil_slots_, 0);
-  linear_->ldlt_analysed = linear_->lu_analysed = false;
+  linear_->ldlt_analysed = linear_->lu_analysed = linear_->distributed_started = false;
 }
 
 void QuasiStatic::assemble(double dt) {
@@ -108,6 +108,7 @@ void QuasiStatic::assemble(double dt) {
   // their nodes' displacements. Elsewhere none: a stiffness on every node
   // would stiffen a long column's softest modes by far more than eps.
   std::fill(creep_.begin(), creep_.end(), 0.0);
+  const bool distributed = linear_->distributed != nullptr;
   const double* material = pts.data(pts.core().material_id);
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const double* D = &tangent_[p * 36];
@@ -119,6 +120,9 @@ void QuasiStatic::assemble(double dt) {
       for (int i = 0; i < dim; ++i) creep_I[i] += creep * s.gradients[k * dim + i] * s.gradients[k * dim + i];
     }
   }
+  // Every process's creep_: the residual reads it (evaluate).
+  if (distributed && d_.comm.any(std::any_of(creep_.begin(), creep_.end(), [](double c) { return c != 0; })))
+    sum_over_processes(creep_);
   // The blocks: row and column i < dim the displacement components, dim the pressure.
   const int w = dim + 1, bsize = w * w;
   std::fill(blocks_.begin(), blocks_.end(), 0.0);
@@ -191,14 +195,30 @@ void QuasiStatic::assemble(double dt) {
           const std::int64_t col = j < dim ? u_dof_[J * dim + j] : p_dof_[J];
           if (col < 0) continue;
           double v = B[i * w + j];
-          if (i == j && I == J && i < dim) v += creep_[I * dim + i];
+          if (i == j && I == J && i < dim && !distributed) v += creep_[I * dim + i];
           t.emplace_back(static_cast<int>(row), static_cast<int>(col), v);
         }
       }
     }
   }
-  const auto size = static_cast<Eigen::Index>(equations_);
   Linear& L = *linear_;
+  if (distributed) {  // each process adds its points' blocks, and the first the creep term
+    if (d_.comm.root())
+      for (std::size_t k = 0; k < u_dof_.size(); ++k)
+        if (u_dof_[k] >= 0 && creep_[k] != 0) t.emplace_back(static_cast<int>(u_dof_[k]), static_cast<int>(u_dof_[k]), creep_[k]);
+    DistributedSystem& system = *L.distributed;
+    if (!L.distributed_started) {
+      system.start(equations_);
+      system.set_fields(displacement_equations_);
+      L.distributed_started = true;
+    } else {
+      system.restart();
+    }
+    system.add(t, stencil_slots_ * static_cast<std::size_t>(w));
+    system.finish(true);
+    return;
+  }
+  const auto size = static_cast<Eigen::Index>(equations_);
   L.matrix.resize(size, size);
   L.matrix.setFromTriplets(t.begin(), t.end());
   L.scale.resize(size);

@@ -5,8 +5,10 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
+#include <memory>
 #include <vector>
 
+#include "distributed_system.hpp"
 #include "quasi_static.hpp"
 
 namespace suffuse::detail {
@@ -28,6 +30,14 @@ struct QuasiStatic::Linear {
   // The pattern is that of the step (QuasiStatic::prepare_blocks): its
   // ordering and symbolic analysis are done once per step and solver.
   bool ldlt_analysed = false, lu_analysed = false;
+  // On many processes: PETSc's (the Eigen members above stay unused), and
+  // whether its matrix has this step's pattern yet.
+  std::unique_ptr<DistributedSystem> distributed;
+  bool distributed_started = false;
+
+  double scale_of(std::size_t e) const {
+    return distributed ? distributed->scale()[e] : scale[static_cast<Eigen::Index>(e)];
+  }
 
   bool factorise() {
     if (symmetric && !ldlt_analysed) ldlt.analyzePattern(matrix), ldlt_analysed = true;
@@ -40,6 +50,11 @@ struct QuasiStatic::Linear {
     return lu.info() == Eigen::Success;
   }
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
+    if (distributed) {
+      std::vector<double> x;
+      distributed->solve({rhs.data(), static_cast<std::size_t>(rhs.size())}, x);
+      return Eigen::Map<const Eigen::VectorXd>(x.data(), rhs.size());
+    }
     const Eigen::VectorXd scaled = scale.asDiagonal() * rhs;
     return scale.asDiagonal() * (symmetric ? Eigen::VectorXd(ldlt.solve(scaled)) : Eigen::VectorXd(lu.solve(scaled)));
   }

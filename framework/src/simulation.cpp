@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "distributed_system.hpp"
 #include "domain.hpp"
 #include "dry_momentum.hpp"
 #include "geostatic_stress.hpp"
@@ -111,13 +112,17 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
                 std::to_string(domain_->points.size()));
   domain_->distribute_points();  // on many processes: each keeps its share
   // On many processes, the node layers beyond its points' that each process
-  // updates: what the transport's stencils read within a step, and one
-  // layer for the outputs' projection (the points moved since the step's
-  // shape functions, by less than a cell).
-  domain_->set_halo_layers(std::max(1, species_ ? detail::SpeciesTransport::halo_layers : 0));
+  // updates: what the transport's stencils read within a step (twice as far
+  // in the quasi-static substeps: Heun's second stage reads the first's
+  // results), and one layer for the outputs' projection (the points moved
+  // since the step's shape functions, by less than a cell).
+  const bool quasi_static = scene.integration == TimeIntegration::quasi_static;
+  const int transport_layers = (quasi_static ? 2 : 1) * detail::SpeciesTransport::halo_layers;
+  domain_->set_halo_layers(std::max(1, species_ ? transport_layers : 0));
   if (species_) species_->start_ledger();
-  if (scene.integration == TimeIntegration::quasi_static) {
-    quasi_static_ = std::make_unique<detail::QuasiStatic>(scene_, *domain_, *materials_, mixture_.get(), bcs_);
+  if (quasi_static) {
+    quasi_static_ = std::make_unique<detail::QuasiStatic>(scene_, *domain_, *materials_, mixture_.get(), bcs_,
+                                                         [this](NodeState& n, double t) { apply_loads(n, t); });
     clock_ = SimulationClock(*scene.dt);  // validation requires it
     return;
   }
@@ -152,9 +157,9 @@ void Simulation::refuse_what_one_process_only_runs() const {
   const detail::Communicator& comm = domain_->comm;
   if (!comm.parallel()) return;
   const std::string processes = " on " + std::to_string(comm.size()) + " processes: ";
-  if (scene_.integration == TimeIntegration::quasi_static)
-    throw Error("/time/integration \"quasi_static\" runs on one process only in this version, not" + processes +
-                "run it without mpirun (docs/parallel.md)");
+  if (scene_.integration == TimeIntegration::quasi_static && !detail::built_with_petsc())
+    throw Error("/time/integration \"quasi_static\" runs on many processes through PETSc, which this build lacks, "
+                "not" + processes + "install libpetsc-real-dev and rebuild, or run it without mpirun (docs/parallel.md)");
 }
 
 std::size_t Simulation::point_count() const { return domain_->total_points(); }
@@ -225,18 +230,18 @@ void Simulation::timed(Stage stage, Work&& work) {
   }
 }
 
-void Simulation::apply_loads(double time) {
+void Simulation::apply_loads(NodeState& nodes, double time) {
   // On many processes a condition that loads points reads every point, in
   // the serial run's numbering, on every process (gathered once per step):
   // each process adds the serial run's forces to its whole grid.
   const PointSet* every = nullptr;
   for (const auto& bc : bcs_) {
-    bc->apply_forces(domain_->grid, domain_->nodes, time);
+    bc->apply_forces(domain_->grid, nodes, time);
     if (!domain_->comm.parallel()) {
-      bc->apply_point_forces(domain_->grid, domain_->points, domain_->nodes, time);
+      bc->apply_point_forces(domain_->grid, domain_->points, nodes, time);
     } else if (bc->loads_points()) {
       if (!every) every = load_every_point_ ? &domain_->every_point() : &domain_->points_at(loaded_points_);
-      bc->apply_point_forces(domain_->grid, *every, domain_->nodes, time);
+      bc->apply_point_forces(domain_->grid, *every, nodes, time);
     }
   }
 }
@@ -267,7 +272,7 @@ void Simulation::step_explicit() {
   timed(Stage::shape, [&] { d.locate_points(n, t); });         // shape functions at the points
   timed(Stage::p2g, [&] { momentum_->points_to_grid(); });      // nodal mass, momentum, forces
   timed(Stage::grid, [&] {
-    apply_loads(t);
+    apply_loads(d.nodes, t);
     momentum_->integrate_grid(dt);                              // nodal velocities at t + dt
     constrain_velocity_recording_reactions(t + dt, dt);
     momentum_->accelerations(dt);
@@ -331,7 +336,7 @@ void Simulation::step_quasi_static() {
     for (int k = 0; k < substeps; ++k) {
       bool eroded = false;
       double change = 0;
-      timed(Stage::erosion, [&] { eroded = species_->erode(transport_dt); });
+      timed(Stage::erosion, [&] { eroded = d.comm.any(species_->erode(transport_dt)); });  // on any process
       timed(Stage::transport, [&] {
         species_->transport(transport_dt, detail::TransportScheme::heun);
         change = species_->composition_change();

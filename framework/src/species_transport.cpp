@@ -5,6 +5,7 @@
 #include <limits>
 #include <ostream>
 
+#include "distributed_system.hpp"
 #include "species_kernels.hpp"
 #include "suffuse/error.hpp"
 #include "suffuse/grid_face.hpp"
@@ -50,6 +51,8 @@ std::vector<LiquidOpening> openings_of(const std::vector<std::unique_ptr<Boundar
   return all;
 }
 }  // namespace
+
+SpeciesTransport::~SpeciesTransport() = default;
 
 SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry, Domain& domain,
                                    const SaturatedMixture& mixture,
@@ -356,15 +359,17 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
 double SpeciesTransport::composition_change() const {
   if (!fines_) return 0;
   double fines = 0, carrying = 0, largest_fines = 0;
-  const std::size_t nn = d_.grid.node_count();
-  for (std::size_t I = 0; I < nn; ++I) {
-    const double L0 = node_liquid_[I], L1 = L0 + node_dliquid_[I];
-    if (!(node_pore_[I] > 0 && L0 > 0 && L1 > 0)) continue;
-    const double f0 = node_fines_[I] / L0, f1 = (node_fines_[I] + node_dfines_[I]) / L1;
-    fines = std::max(fines, std::abs(f1 - f0));
-    largest_fines = std::max({largest_fines, f0, f1});
-    carrying = std::max(carrying, std::abs((node_carrying_[I] + node_dcarrying_[I]) / L1 - node_carrying_[I] / L0));
+  for (const ScatterRange& r : d_.owned_nodes(d_.shape)) {  // each node once, on its owner
+    for (std::size_t I = r.first; I < r.last; ++I) {
+      const double L0 = node_liquid_[I], L1 = L0 + node_dliquid_[I];
+      if (!(node_pore_[I] > 0 && L0 > 0 && L1 > 0)) continue;
+      const double f0 = node_fines_[I] / L0, f1 = (node_fines_[I] + node_dfines_[I]) / L1;
+      fines = std::max(fines, std::abs(f1 - f0));
+      largest_fines = std::max({largest_fines, f0, f1});
+      carrying = std::max(carrying, std::abs((node_carrying_[I] + node_dcarrying_[I]) / L1 - node_carrying_[I] / L0));
+    }
   }
+  fines = d_.comm.max(fines), carrying = d_.comm.max(carrying), largest_fines = d_.comm.max(largest_fines);
   return std::max(largest_fines > 0 ? fines / largest_fines : 0.0, carrying);
 }
 
@@ -395,7 +400,7 @@ double SpeciesTransport::largest_eroded_fraction_increment() const {
   if (!fines_) return 0;
   double worst = 0;
   for (const double d : d_.points.values(fines_->eroded_fraction_increment)) worst = std::max(worst, std::abs(d));
-  return worst;
+  return d_.comm.max(worst);
 }
 
 void SpeciesTransport::add_to_totals(const std::vector<std::array<double, 4>>& step) {

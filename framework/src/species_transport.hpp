@@ -18,6 +18,8 @@
 
 namespace suffuse::detail {
 
+class DistributedSystem;
+
 // How the transport steps in time. Explicit steps use one forward-Euler
 // stage (their step is far below the transport's limit). Quasi-static
 // substeps at Courant numbers near it use Heun's method (SSP: a mean of two
@@ -39,9 +41,9 @@ class SpeciesTransport {
   // transport step reads (Transport: a face's flow reads the node upstream
   // of its upwind node, and a node's change the faces below it), so that a
   // process's nodes match the serial run's where its points read them
-  // (Domain::set_halo_layers). Heun's second stage would read twice as far
-  // and the backward-Euler solve the whole grid: both run in quasi-static
-  // mode only, which runs on one process.
+  // (Domain::set_halo_layers). Heun's second stage reads twice as far (the
+  // quasi-static substeps: their halo is doubled); the backward-Euler step
+  // gathers every node (species_transport_implicit.cpp).
   static constexpr int halo_layers = 2;
   // Fines are tracked when a body holds some, a material erodes, or an inlet brings them.
   static bool tracks_fines(const Scene& scene, const std::vector<LiquidOpening>& openings);
@@ -50,6 +52,7 @@ class SpeciesTransport {
 
   SpeciesTransport(const Scene& scene, const Registry& registry, Domain& domain, const SaturatedMixture& mixture,
                    const std::vector<std::unique_ptr<BoundaryCondition>>& bcs);
+  ~SpeciesTransport();
 
   // Fines of a body's points (after the mixture's initialise).
   void initialise(const BodySpec& body, const BodyPoints& points);
@@ -61,7 +64,8 @@ class SpeciesTransport {
   bool erode(double dt);
   // Stage "transport": liquid and suspended fines across the grid.
   void transport(double dt, TransportScheme scheme = TransportScheme::forward_euler);
-  // Largest change over the last transport of a node's composition: its
+  // Largest change over the last transport of a node's composition (over
+  // every process): its
   // fines' share of the liquid (relative to the largest share on the grid),
   // and its carrying liquid's share; 0 in runs without fines. Not the liquid
   // per pore volume: that is the suspension's density wherever the nodal
@@ -73,7 +77,8 @@ class SpeciesTransport {
   // content and eroded fraction increments then span the whole step.
   void start_step();
   void finish_step();
-  // The largest |increment of the eroded fraction| of a point over the last step.
+  // The largest |increment of the eroded fraction| of a point over the last
+  // step, over every process.
   double largest_eroded_fraction_increment() const;
 
   MassLedger mass_ledger(double time) const;
@@ -141,6 +146,7 @@ class SpeciesTransport {
   // Per node, the scatter's sums (species_block) and the change shared per
   // amount held and per pore volume (share_block, g2p_share).
   std::vector<double> species_block_, share_block_;
+  std::unique_ptr<DistributedSystem> implicit_system_;  // the backward-Euler step's, on many processes
 };
 
 }  // namespace suffuse::detail

@@ -13,11 +13,17 @@
 // matrix serves the three amounts. The nodal changes are then formed from
 // the transfers the solution implies, so the ledger closes to round-off
 // whatever the residual of the solve.
+//
+// On many processes every process gathers every node's amounts (from the
+// nodes' owners) and the matrix is PETSc's (DistributedSystem), each process
+// adding its rows; the solution comes back whole to every process, which
+// then books the same transfers.
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <vector>
 
+#include "distributed_system.hpp"
 #include "species_kernels.hpp"
 #include "species_transport.hpp"
 #include "suffuse/error.hpp"
@@ -32,6 +38,11 @@ void SpeciesTransport::implicit_stage(double dt) {
                         fines ? node_fines_.data() : nullptr, fines ? node_carrying_.data() : nullptr,
                         node_darcy_.data(), node_face_.data(), inflow_liquid_.data(), inflow_fines_.data(),
                         inflow_carrying_.data()};
+  if (d_.comm.parallel()) {  // every node's amounts on every process
+    for (auto* v : {&node_pore_, &node_liquid_}) d_.gather_nodal_to_all(d_.shape, *v, 1);
+    if (fines)
+      for (auto* v : {&node_fines_, &node_carrying_}) d_.gather_nodal_to_all(d_.shape, *v, 1);
+  }
   const double* pore = node_pore_.data();
   // What leaves or enters each node through the open faces, per opening
   // node: the volume (positive out) this step.
@@ -86,20 +97,38 @@ void SpeciesTransport::implicit_stage(double dt) {
           entries.emplace_back(row, static_cast<int>(I - s), -face[(I - s) * dim + a] / pore[I - s]);
       }
     }
-    Eigen::SparseMatrix<double> matrix(static_cast<Eigen::Index>(nn), static_cast<Eigen::Index>(nn));
-    matrix.setFromTriplets(entries.begin(), entries.end());
-    // Direct: robust for any flux pattern and cheap at a grid's node count
-    // (the matrix is a tridiagonal-like band per axis); once per step.
-    Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> solver;
-    solver.compute(matrix);
-    if (solver.info() != Eigen::Success)
-      throw Error("transport: the backward-Euler step's matrix could not be factorised (" + solver.lastErrorMessage() +
-                  ")");
     const auto size = static_cast<Eigen::Index>(nn);
+    Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> solver;
+    if (d_.comm.parallel()) {
+      if (!implicit_system_)
+        implicit_system_ = std::make_unique<DistributedSystem>(d_.comm, "transport: the backward-Euler step",
+                                                               "suffuse_transport_");
+      DistributedSystem& system = *implicit_system_;
+      system.start(nn);
+      const auto [first, last] = system.rows();
+      std::erase_if(entries, [first = first, last = last](const Eigen::Triplet<double>& e) {
+        return static_cast<std::size_t>(e.row()) < first || static_cast<std::size_t>(e.row()) >= last;
+      });
+      system.add(entries, static_cast<std::size_t>(1 + 2 * dim));
+      system.finish(false);
+    } else {
+      Eigen::SparseMatrix<double> matrix(size, size);
+      matrix.setFromTriplets(entries.begin(), entries.end());
+      // Direct: robust for any flux pattern and cheap at a grid's node count
+      // (the matrix is a tridiagonal-like band per axis); once per step.
+      solver.compute(matrix);
+      if (solver.info() != Eigen::Success)
+        throw Error("transport: the backward-Euler step's matrix could not be factorised (" +
+                    solver.lastErrorMessage() + ")");
+    }
+    std::vector<double> rhs(nn);
     auto solve = [&](const std::vector<double>& amount, const std::vector<double>& inflow, std::vector<double>& next) {
-      Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(amount.data(), size) +
-                            Eigen::Map<const Eigen::VectorXd>(inflow.data(), size);
-      Eigen::Map<Eigen::VectorXd>(next.data(), size) = solver.solve(rhs);
+      for (std::size_t I = 0; I < nn; ++I) rhs[I] = amount[I] + inflow[I];
+      if (implicit_system_) {
+        implicit_system_->solve(rhs, next);
+        return;
+      }
+      Eigen::Map<Eigen::VectorXd>(next.data(), size) = solver.solve(Eigen::Map<const Eigen::VectorXd>(rhs.data(), size));
     };
     solve(node_liquid_, node_dliquid_, stage_liquid_);
     if (fines) {

@@ -194,7 +194,7 @@ class Simulation {
   void step_quasi_static();
   void create_bodies();
   std::vector<double> unit_weights() const;
-  void apply_loads(double time);  // boundary conditions' external forces
+  void apply_loads(NodeState& nodes, double time);  // boundary conditions' external forces
   // The points the conditions that load points read (serial numbers), or
   // every point if one of them does not say (BoundaryCondition::loaded_points).
   std::vector<std::size_t> loaded_points_;

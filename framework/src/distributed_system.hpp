@@ -1,0 +1,82 @@
+#pragma once
+// A sparse linear system over the processes of a run, solved by PETSc
+// (docs/parallel.md, "Quasi-static runs"): what the quasi-static step's u-p
+// system and its transport's backward-Euler step go through on many
+// processes. One process keeps Eigen (quasi_static_linear.hpp), so serial
+// runs and builds without PETSc are as before.
+//
+// Rows are split in contiguous ranges (rows()); every process may add to any
+// entry, and the sums are PETSc's (MatSetValues with ADD_VALUES). The
+// right-hand side is passed whole, the same on every process, and the whole
+// solution comes back on every process: the quasi-static step keeps its
+// nodal unknowns on every process (a grid's, not the points').
+//
+// The default solve is direct: LU by MUMPS, as robust as the serial
+// factorisation on the u-p system's indefinite, badly scaled matrix. Any
+// PETSc solver replaces it through PETSc's options with the system's prefix
+// (suffuse_qs_, suffuse_transport_), on the command line of mpirun's
+// processes or in PETSC_OPTIONS, e.g. GMRES preconditioned by a Schur
+// complement split (the displacements and the pressures are given as the
+// split's two fields):
+//   PETSC_OPTIONS="-suffuse_qs_ksp_type fgmres -suffuse_qs_pc_type fieldsplit
+//     -suffuse_qs_pc_fieldsplit_type schur ..."
+#include <Eigen/SparseCore>
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "communicator.hpp"
+
+namespace suffuse::detail {
+
+// Whether this build solves on many processes (PETSc found with MPI).
+bool built_with_petsc();
+
+class DistributedSystem {
+ public:
+  using Entry = Eigen::Triplet<double>;
+  // `name` for messages; `prefix` that of its PETSc options.
+  DistributedSystem(const Communicator& comm, std::string name, std::string prefix);
+  ~DistributedSystem();
+  DistributedSystem(const DistributedSystem&) = delete;
+  DistributedSystem& operator=(const DistributedSystem&) = delete;
+
+  // A new matrix of `size` equations (its pattern new), and the rows this
+  // process holds, [first, last).
+  void start(std::size_t size);
+  std::pair<std::size_t, std::size_t> rows() const { return rows_; }
+  // The same pattern's entries anew (zeroed): the symbolic factorisation is kept.
+  void restart();
+  // Adds entries (any rows); `per_row` bounds the entries of a row, for the
+  // preallocation (more are allowed, at a cost).
+  void add(std::span<const Entry> entries, std::size_t per_row);
+  // Ends the assembly. With `scaled`, scales rows and columns symmetrically
+  // by 1 / sqrt(|diagonal|) (1 where it is zero), as the serial solve does:
+  // its blocks differ by many orders of magnitude.
+  void finish(bool scaled);
+  // The scaling of every equation, on every process (1 if not scaled).
+  const std::vector<double>& scale() const { return scale_; }
+  // The displacements are equations [0, split), the pressures [split, size):
+  // the fields of a fieldsplit preconditioner, if the options choose one.
+  void set_fields(std::size_t split) { split_ = split; }
+  // Solves the (unscaled) system for `rhs`, whole on every process; returns
+  // the whole solution on every process, or throws with PETSc's reason.
+  void solve(std::span<const double> rhs, std::vector<double>& x);
+
+ private:
+  struct Petsc;  // PETSc's objects (distributed_system.cpp)
+  const Communicator& comm_;
+  std::string name_, prefix_;
+  std::unique_ptr<Petsc> petsc_;
+  std::pair<std::size_t, std::size_t> rows_{0, 0};
+  std::size_t size_ = 0, split_ = 0;
+  std::vector<double> scale_;
+};
+
+// Ends PETSc if a system started it (before MPI ends: ParallelProcesses).
+void finalize_distributed_systems();
+
+}  // namespace suffuse::detail
