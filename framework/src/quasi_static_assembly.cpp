@@ -227,8 +227,7 @@ void QuasiStatic::assemble(double dt) {
   for (Eigen::Index c = 0; c < L.matrix.outerSize(); ++c)
     for (Linear::Matrix::InnerIterator it(L.matrix, c); it; ++it) it.valueRef() *= L.scale[it.row()] * L.scale[it.col()];
   if (!L.factorise())
-    throw Error("the quasi-static system is singular: a body that nothing holds (check the velocity "
-                "conditions), or pore pressure with no face to drain to and no storage");
+    throw Error(std::string("the quasi-static system is singular: ") + Linear::singular);
 }
 
 }  // namespace suffuse::detail

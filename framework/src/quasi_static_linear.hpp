@@ -10,6 +10,7 @@
 
 #include "distributed_system.hpp"
 #include "quasi_static.hpp"
+#include "suffuse/error.hpp"
 
 namespace suffuse::detail {
 
@@ -18,6 +19,9 @@ namespace suffuse::detail {
 inline bool without_stiffness(const double* D) { return D[0] == 0 && D[7] == 0 && D[14] == 0 && D[35] == 0; }
 
 struct QuasiStatic::Linear {
+  static constexpr const char* singular =
+      "a body that nothing holds (check the velocity conditions), or pore pressure with no face to drain to and no "
+      "storage";
   using Matrix = Eigen::SparseMatrix<double>;
   std::vector<Eigen::Triplet<double>> triplets;
   Matrix matrix;
@@ -52,7 +56,11 @@ struct QuasiStatic::Linear {
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
     if (distributed) {
       std::vector<double> x;
-      distributed->solve({rhs.data(), static_cast<std::size_t>(rhs.size())}, x);
+      try {
+        distributed->solve({rhs.data(), static_cast<std::size_t>(rhs.size())}, x);
+      } catch (const Error& e) {  // as the serial factorisation says (assemble)
+        throw Error(std::string(e.what()) + ": the quasi-static system may be singular: " + singular);
+      }
       return Eigen::Map<const Eigen::VectorXd>(x.data(), rhs.size());
     }
     const Eigen::VectorXd scaled = scale.asDiagonal() * rhs;
