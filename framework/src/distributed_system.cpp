@@ -81,6 +81,8 @@ void DistributedSystem::start(std::size_t size) {
   Petsc& p = *petsc_;
   p.clear();
   size_ = size;
+  scale_.clear();
+  if (size == 0) return;  // nothing to solve (every unknown prescribed): PETSc is not asked
   const auto ranks = static_cast<std::size_t>(comm_.size()), rank = static_cast<std::size_t>(comm_.rank());
   rows_ = {size * rank / ranks, size * (rank + 1) / ranks};
   const auto local = static_cast<PetscInt>(rows_.second - rows_.first), n = static_cast<PetscInt>(size);
@@ -93,9 +95,12 @@ void DistributedSystem::start(std::size_t size) {
   scale_.assign(size, 1.0);
 }
 
-void DistributedSystem::restart() { check(MatZeroEntries(petsc_->matrix), name_, "MatZeroEntries"); }
+void DistributedSystem::restart() {
+  if (size_ > 0) check(MatZeroEntries(petsc_->matrix), name_, "MatZeroEntries");
+}
 
 void DistributedSystem::add(std::span<const Entry> entries, std::size_t per_row) {
+  if (size_ == 0) return;
   Petsc& p = *petsc_;
   PetscBool assembled = PETSC_FALSE;
   MatAssembled(p.matrix, &assembled);
@@ -125,6 +130,7 @@ void DistributedSystem::add(std::span<const Entry> entries, std::size_t per_row)
 }
 
 void DistributedSystem::finish(bool scaled) {
+  if (size_ == 0) return;
   Petsc& p = *petsc_;
   check(MatAssemblyBegin(p.matrix, MAT_FINAL_ASSEMBLY), name_, "MatAssemblyBegin");
   check(MatAssemblyEnd(p.matrix, MAT_FINAL_ASSEMBLY), name_, "MatAssemblyEnd");
@@ -172,6 +178,8 @@ void DistributedSystem::finish(bool scaled) {
 }
 
 void DistributedSystem::solve(std::span<const double> rhs, std::vector<double>& x) {
+  x.resize(size_);
+  if (size_ == 0) return;
   Petsc& p = *petsc_;
   PetscScalar* b = nullptr;
   check(VecGetArray(p.rhs, &b), name_, "VecGetArray");
