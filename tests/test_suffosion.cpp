@@ -2,6 +2,7 @@
 // in element tests (share/scenes/suffosion_element.json) and in MPM.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -480,6 +481,81 @@ TEST(Suffosion, NoVoidRatioBorrowedFromAnotherMaterial) {
     }
   }
   EXPECT_GT(clay_points, 0u);
+}
+
+}  // namespace
+
+namespace {
+
+// "integration": "substeps" against the relaxation of a sample held at its
+// strain while it erodes, integrated here independently: a Mohr-Coulomb
+// sample (elastic at these stresses, E = 20 MPa) at the low confinement of
+// a levee's toe (p' 6.8 kPa) and eta = 0.8, its total strain held, erodes
+// 1% of its solid. Each bit of erosion relaxes q (shear) and p'
+// (compaction); once eta falls below M_so the onset stops the strain, so
+// the sample ends on the onset curve. One step of the explicit law (the
+// stress ratio of the step's start) overshoots into tension, and even ten
+// steps go wrong (p' 20 times too large, by dilation at the cap); one step
+// of substeps lands on the relaxation.
+struct HeldSample {
+  double p0, q0, p, q;
+};
+HeldSample erode_held_sample(const std::string& integration, int increments) {
+  const nlohmann::json j = {
+      {"material",
+       {{"type", "phase/suffosion"},
+        {"integration", integration},
+        {"initial_void_ratio", 0.5},
+        {"base",
+         {{"type", "phase/mohr_coulomb"},
+          {"density", 2650.0},
+          {"youngs_modulus", 20e6},
+          {"poisson_ratio", 0.3},
+          {"friction_angle", 35.0},
+          {"cohesion", 2000.0}}}}},
+      {"initial_pressure", 5e3},
+      {"path",
+       {{{"type", "stress_controlled"}, {"eta", 0.8}, {"increments", 50}},
+        {{"type", "oedometer"}, {"strain", 0.0}, {"inputs", {{"eroded_fraction", 0.01}}}, {"increments", increments}}}}};
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const auto scene = suffuse::parse_element_scene(j.dump(), "held.json", ".", registry, loader);
+  std::ostringstream out;
+  suffuse::run_element_test(scene, 0, registry, out);
+  const Rows r = parse_csv(out.str());
+  const std::size_t last = r.rows.size() - 1;
+  return {r.at(50, "p"), r.at(50, "q"), r.at(last, "p"), r.at(last, "q")};
+}
+
+TEST(Suffosion, SubstepsFollowTheRelaxationOfAHeldSample) {
+  const HeldSample one = erode_held_sample("substeps", 1);
+  ASSERT_NEAR(one.q0 / one.p0, 0.8, 1e-9);
+  // The reference: 1e5 forward-Euler steps of the study's relations at the
+  // held strain, isotropic elasticity, the onset gating each step.
+  const double E = 20e6, nu = 0.3, K = E / (3 * (1 - 2 * nu)), G = E / (2 * (1 + nu));
+  double p = one.p0, q = one.q0;
+  const int steps = 100000;
+  const double h = 0.01 / steps;
+  for (int k = 0; k < steps; ++k) {
+    const double f = k * h, eta = q / p;
+    const double active = std::max(0.0, f + h - std::max(f, onset(eta)));
+    const double d_ev = compaction_rate(eta) * active;
+    p -= K * d_ev;
+    q -= 3 * G * d_ev / dilatancy(eta);
+  }
+  EXPECT_NEAR(q / p, 0.6149, 0.005) << "ends on the onset curve, f_so(eta) = 0.01";
+  // One step of substeps: 1e-5 of p' and 3e-4 of q off, measured.
+  EXPECT_NEAR(one.p, p, 1e-3 * p) << "one step of substeps";
+  EXPECT_NEAR(one.q, q, 2e-3 * q);
+  // The explicit law in 4,000 steps: 7e-4 and 9e-3 off, measured (each step
+  // that crosses the onset curve overshoots it: first order).
+  const HeldSample many = erode_held_sample("explicit", 4000);
+  EXPECT_NEAR(many.p, p, 2e-3 * p) << "the explicit law in small steps";
+  EXPECT_NEAR(many.q, q, 1.5e-2 * q);
+  // The explicit law in large steps does not (what the substeps are for).
+  const HeldSample ten = erode_held_sample("explicit", 10);
+  EXPECT_GT(std::abs(ten.p - p), 1.0 * p);
+  EXPECT_GT(std::abs(erode_held_sample("explicit", 1).p - p), 0.5 * p);
 }
 
 }  // namespace

@@ -148,6 +148,16 @@ class Phase {
     return false;
   }
 
+  // Optional: the elastic (unloading) stiffness of each point in its current
+  // state, in tangent()'s form: the stiffness a stress follows when a strain
+  // the phase imposes unloads it (phase/suffosion's "implicit" integration
+  // relaxes a point under its own erosion-induced strain with it). The
+  // default returns tangent(), right for a phase whose tangent is elastic;
+  // a plastic tangent (phase/mohr_coulomb's) overrides it.
+  virtual bool elastic_stiffness(const StressBatch& batch, std::span<double> stiffness) const {
+    return tangent(batch, stiffness);
+  }
+
   // Advance the stress (and the phase's own state) of the batch over dt.
   // Called from several threads at once on disjoint batches: write only the
   // batch's points, keep no mutable member state.

@@ -295,6 +295,11 @@ class MohrCoulomb final : public suffuse::Phase {
     }
     return true;
   }
+  bool elastic_stiffness(const suffuse::StressBatch& batch, std::span<double> stiffness) const override {
+    for (std::size_t p = batch.range.begin; p < batch.range.end; ++p)
+      suffuse::tensor::isotropic_stiffness(lambda_ + 2 * G_ / 3, G_, stiffness.data() + (p - batch.range.begin) * 36);
+    return true;
+  }
   void update_stress(const suffuse::StressBatch& batch) const override {
     if (batch.points.dim() == 2)
       update<2>(batch);
