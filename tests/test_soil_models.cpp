@@ -374,6 +374,52 @@ TEST(MohrCoulomb, TangentIsTheDerivativeOfTheReturn) {
   }
 }
 
+// Phase::elastic_stiffness after a plastic step is the stiffness the
+// stress follows when it unloads (what phase/suffosion's substeps relax a
+// point with), not the plastic tangent: from returned states on the plane,
+// an edge or the apex, a small strain that shrinks the deviator (and, at the
+// apex, compresses) changes the stress by elastic_stiffness times it,
+// elastically; the tangent there differs.
+TEST(MohrCoulomb, ElasticStiffnessIsTheUnloadingOne) {
+  OnePoint pt("phase/mohr_coulomb", sand);
+  const double E = 2e7;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 2e-3);
+  std::uniform_real_distribution<double> pressure(0.0, 100e3);
+  int checked = 0, tangent_differs = 0;
+  for (int k = 0; k < 200; ++k) {
+    std::array<double, 6> start{}, de{};
+    for (int i = 0; i < 6; ++i) start[i] = i < 3 ? -pressure(rng) : 0.0;
+    for (int i = 0; i < 6; ++i) de[i] = n(rng);
+    std::copy(start.begin(), start.end(), pt.stress());
+    pt.strain(de);
+    if (pt.points.data(pt.points.id("yielding"))[0] == 0) continue;
+    std::array<double, 6> sigma;
+    std::copy(pt.stress(), pt.stress() + 6, sigma.begin());
+    std::vector<double> D(36), tangent(36);
+    ASSERT_TRUE(pt.phase->elastic_stiffness(suffuse::StressBatch{pt.points, {0, 1}, 1.0, {}}, D));
+    ASSERT_TRUE(pt.phase->tangent(suffuse::StressBatch{pt.points, {0, 1}, 1.0, {}}, tangent));
+    double largest = 0;
+    for (int i = 0; i < 36; ++i) largest = std::max(largest, std::abs(D[i] - tangent[i]));
+    tangent_differs += largest > 1e-3 * E;
+    // Unload: shrink the deviator, compress a little (tension positive).
+    const suffuse::tensor::Voigt dev = suffuse::tensor::deviator(sigma.data());
+    const double size = std::sqrt(suffuse::tensor::double_contraction(dev.data(), dev.data())) + 1.0;
+    std::array<double, 6> u{};
+    for (int i = 0; i < 6; ++i) u[i] = -1e-6 * dev[i] / size - (i < 3 ? 1e-7 : 0.0);
+    pt.strain(u);
+    ASSERT_EQ(pt.points.data(pt.points.id("yielding"))[0], 0) << "case " << k << " unloads elastically";
+    for (int r = 0; r < 6; ++r) {
+      double expected = 0;
+      for (int c = 0; c < 6; ++c) expected += D[r * 6 + c] * u[c] * (c < 3 ? 1.0 : 2.0);  // engineering shear
+      ASSERT_NEAR(pt.stress()[r] - sigma[r], expected, 1e-6 * E * 1e-6) << "case " << k << ", row " << r;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 50);
+  EXPECT_GT(tangent_differs, 50) << "the plastic tangent is another stiffness";
+}
+
 }  // namespace
 
 namespace {
