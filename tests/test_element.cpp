@@ -82,12 +82,7 @@ TEST(ElementTest, DrainedTriaxialHoldsTheCellPressure) {
 
 // Runs an element scene given as JSON; the CSV rows (header first).
 std::vector<std::vector<std::string>> run_scene(const nlohmann::json& j) {
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  const auto scene = suffuse::parse_element_scene(j.dump(), "element.json", ".", registry, loader);
-  std::ostringstream out;
-  suffuse::run_element_test(scene, 0, registry, out);
-  return rows_of(out.str());
+  return rows_of(suffuse::test::element_csv(j));
 }
 
 double value(const std::vector<std::vector<std::string>>& rows, std::size_t row, const std::string& name) {

@@ -436,12 +436,7 @@ TEST(Suffosion, StrainStopsWhenTheErosionStops) {
       {"path",
        {{{"type", "stress_controlled"}, {"inputs", {{"eroded_fraction", 0.05}}}, {"increments", 10}},
         {{"type", "stress_controlled"}, {"increments", 10}}}}};
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  const auto scene = suffuse::parse_element_scene(j.dump(), "hold.json", ".", registry, loader);
-  std::ostringstream out;
-  suffuse::run_element_test(scene, 0, registry, out);
-  const Rows r = parse_csv(out.str());
+  const Rows r = parse_csv(suffuse::test::element_csv(j));
   ASSERT_EQ(r.rows.size(), 21u);
   const double ev = r.at(10, "erosion_volumetric_strain");
   EXPECT_NEAR(ev, compaction_rate(0) * (0.05 - onset(0)), 1e-9) << "eroded past the onset";
@@ -470,12 +465,7 @@ TEST(Suffosion, KeepsTheBasesOwnEigenstrain) {
         {"base", {{"type", "phase/test_swelling"}, {"density", 1000.0}, {"youngs_modulus", 1e6}, {"rate", rate}}}}},
       {"initial_pressure", 10e3},
       {"path", {{{"type", "stress_controlled"}, {"inputs", {{"eroded_fraction", 0.01}}}, {"increments", 30}}}}};
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  const auto scene = suffuse::parse_element_scene(j.dump(), "swelling.json", ".", registry, loader);
-  std::ostringstream out;
-  suffuse::run_element_test(scene, 0, registry, out);
-  const Rows r = parse_csv(out.str());
+  const Rows r = parse_csv(suffuse::test::element_csv(j));
   ASSERT_EQ(r.rows.size(), 31u);
   EXPECT_NEAR(r.at(30, "eps_v"), -60 * rate, 1e-12) << "30 increments of 1 s swelling in x and y";
   EXPECT_EQ(r.at(30, "erosion_volumetric_strain"), 0.0) << "below the onset";
@@ -568,12 +558,7 @@ HeldSample erode_held_sample(const std::string& integration, int increments) {
       {"path",
        {{{"type", "stress_controlled"}, {"eta", 0.8}, {"increments", 50}},
         {{"type", "oedometer"}, {"strain", 0.0}, {"inputs", {{"eroded_fraction", 0.01}}}, {"increments", increments}}}}};
-  suffuse::Registry registry;
-  suffuse::PluginLoader loader(registry);
-  const auto scene = suffuse::parse_element_scene(j.dump(), "held.json", ".", registry, loader);
-  std::ostringstream out;
-  suffuse::run_element_test(scene, 0, registry, out);
-  const Rows r = parse_csv(out.str());
+  const Rows r = parse_csv(suffuse::test::element_csv(j));
   const std::size_t last = r.rows.size() - 1;
   return {r.at(50, "p"), r.at(50, "q"), r.at(last, "p"), r.at(last, "q")};
 }

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <suffuse/element_test.hpp>
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/scene.hpp>
 #include <vector>
@@ -153,6 +154,16 @@ inline CsvTable read_csv(const std::filesystem::path& file) {
   std::stringstream s;
   s << in.rdbuf();
   return parse_csv(s.str());
+}
+
+// The CSV text of the first case of an element scene given as JSON.
+inline std::string element_csv(const nlohmann::json& j) {
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const auto scene = suffuse::parse_element_scene(j.dump(), "element.json", ".", registry, loader);
+  std::ostringstream out;
+  suffuse::run_element_test(scene, 0, registry, out);
+  return out.str();
 }
 
 }  // namespace suffuse::test
