@@ -595,3 +595,29 @@ TEST(Suffosion, SubstepsFollowTheRelaxationOfAHeldSample) {
 }
 
 }  // namespace
+
+namespace {
+
+// Below its onset a point eroding in substeps deforms nothing and reports
+// the onset of its stress ratio, as with the explicit integration.
+TEST(Suffosion, SubstepsBelowTheOnsetDeformNothing) {
+  const nlohmann::json j = {
+      {"material",
+       {{"type", "phase/suffosion"},
+        {"integration", "substeps"},
+        {"initial_void_ratio", 0.6},
+        {"base", {{"type", "phase/linear_elastic"}, {"density", 2650.0}, {"youngs_modulus", 5e7}, {"poisson_ratio", 0.3}}}}},
+      {"initial_pressure", 100e3},
+      {"path",
+       {{{"type", "stress_controlled"}, {"eta", 0.5}, {"increments", 10}},
+        {{"type", "oedometer"}, {"strain", 0.0}, {"inputs", {{"eroded_fraction", 0.01}}}, {"increments", 3}}}}};
+  const Rows r = parse_csv(suffuse::test::element_csv(j));
+  const std::size_t last = r.rows.size() - 1;
+  EXPECT_NEAR(r.at(last, "eta"), 0.5, 1e-9);
+  EXPECT_GT(onset(0.5), 0.01) << "the sample stays below its onset";
+  EXPECT_NEAR(r.at(last, "suffosion_onset"), onset(0.5), 1e-9);
+  EXPECT_EQ(r.at(last, "erosion_volumetric_strain"), 0.0);
+  EXPECT_EQ(r.at(last, "erosion_shear_strain"), 0.0);
+}
+
+}  // namespace

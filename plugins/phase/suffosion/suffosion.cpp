@@ -282,7 +282,7 @@ class Suffosion final : public suffuse::Phase {
   struct Relaxed {
     SuffosionLaw::Strain strain;
     t::Voigt tensor{};
-    double eta = 0;  // the ratio of the last substep
+    double eta = 0;  // the ratio the substeps leave
   };
   Relaxed relax(const double* s, const t::Voigt& dev, double q0, const double* D, double f, double df) const {
     constexpr double stress_change = 0.02, largest_change = 0.5, slack = 1e-3;
@@ -312,7 +312,7 @@ class Suffosion final : public suffuse::Phase {
     for (int k = 0; k < most_substeps && done < f; ++k) {
       const double p = t::mean_stress(sigma.data());
       if (!(p > slack * p0)) break;
-      const double eta = ratio(sigma);
+      const double eta = out.eta = ratio(sigma);
       if (done < law_.onset(eta)) {  // nothing deforms, the stress stays, until f_er reaches the onset
         done = std::min(f, law_.onset(eta));
         continue;
