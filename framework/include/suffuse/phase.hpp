@@ -150,7 +150,7 @@ class Phase {
 
   // Optional: the elastic (unloading) stiffness of each point in its current
   // state, in tangent()'s form: the stiffness a stress follows when a strain
-  // the phase imposes unloads it (phase/suffosion's "implicit" integration
+  // the phase imposes unloads it (phase/suffosion's "substeps" integration
   // relaxes a point under its own erosion-induced strain with it). The
   // default returns tangent(), right for a phase whose tangent is elastic;
   // a plastic tangent (phase/mohr_coulomb's) overrides it.
