@@ -372,9 +372,8 @@ TEST(Suffosion, LeveeCrestSettlesAfterOnset) {
 // 0.05 s, eroded_fraction_tolerance 5e-4), the foundation's erosion-induced
 // strain integrated in substeps: it runs through 12 s, the fines wash out
 // where the explicit run washes them out, most under the landside toe
-// (x = 3-4 m: 8.3% at 12 s, the first metre 1.3%; the explicit run at 20 cm
-// cells: 8.2% and 1.0%), the crest settles (28 mm; explicit 73 mm, 23 mm
-// before the substeps took the last step's loading), and the ledger closes.
+// (x = 3-4 m: 8.7% at 12 s, the first metre 1.5%; the explicit run at 10 cm
+// cells: 8.0% and 1.1%), the crest settles (23 mm), and the ledger closes.
 // With the default "explicit" integration the toe's points overshoot into
 // dilation, draw the river in, and the first metre erodes most (6.9%
 // against 3.9% at 10 s); that run then stops, finding no equilibrium
@@ -542,7 +541,7 @@ namespace {
 struct HeldSample {
   double p0, q0, p, q;
 };
-HeldSample erode_held_sample(const std::string& integration, int increments, double strain = 0.0) {
+HeldSample erode_held_sample(const std::string& integration, int increments) {
   const nlohmann::json j = {
       {"material",
        {{"type", "phase/suffosion"},
@@ -558,7 +557,7 @@ HeldSample erode_held_sample(const std::string& integration, int increments, dou
       {"initial_pressure", 5e3},
       {"path",
        {{{"type", "stress_controlled"}, {"eta", 0.8}, {"increments", 50}},
-        {{"type", "oedometer"}, {"strain", strain}, {"inputs", {{"eroded_fraction", 0.01}}}, {"increments", increments}}}}};
+        {{"type", "oedometer"}, {"strain", 0.0}, {"inputs", {{"eroded_fraction", 0.01}}}, {"increments", increments}}}}};
   const Rows r = parse_csv(suffuse::test::element_csv(j));
   const std::size_t last = r.rows.size() - 1;
   return {r.at(50, "p"), r.at(50, "q"), r.at(last, "p"), r.at(last, "q")};
@@ -593,52 +592,6 @@ TEST(Suffosion, SubstepsFollowTheRelaxationOfAHeldSample) {
   const HeldSample ten = erode_held_sample("explicit", 10);
   EXPECT_GT(std::abs(ten.p - p), 1.0 * p);
   EXPECT_GT(std::abs(erode_held_sample("explicit", 1).p - p), 0.5 * p);
-}
-
-
-// The same sample compressed while it erodes (oedometer, 2e-4 of axial
-// strain over the 1% eroded, elastic: p' grows 3.3 kPa and q 3.1 kPa
-// without erosion), integrated here independently as above. Substeps that
-// held the point's strain would relax it, step after step, as if nothing
-// loaded it, and lag the loading that keeps it above its onset curve; they
-// take the loading of the last step, per unit of its erosion.
-struct LoadedReference {
-  double p, q;
-};
-LoadedReference loaded_reference(double p, double q, double strain) {
-  const double E = 20e6, nu = 0.3, K = E / (3 * (1 - 2 * nu)), G = E / (2 * (1 + nu));
-  const int steps = 100000;
-  const double h = 0.01 / steps, de = strain / steps;
-  for (int k = 0; k < steps; ++k) {
-    const double f = k * h, eta = q / p;
-    const double active = std::max(0.0, f + h - std::max(f, onset(eta)));
-    const double d_ev = compaction_rate(eta) * active;
-    p += K * (de - d_ev);
-    q += 3 * G * (2.0 / 3.0 * de - d_ev / dilatancy(eta));
-  }
-  return {p, q};
-}
-
-TEST(Suffosion, SubstepsFollowASampleLoadedAsItErodes) {
-  const double strain = 2e-4;
-  auto run = [&](int increments) { return erode_held_sample("substeps", increments, strain); };
-  const HeldSample ten = run(10), three = run(3);
-  const LoadedReference ref = loaded_reference(ten.p0, ten.q0, strain);
-  std::printf("loaded sample: reference p' %.2f q %.2f; substeps in 10 steps %.2f %.2f, in 3 steps %.2f %.2f\n", ref.p,
-              ref.q, ten.p, ten.q, three.p, three.q);
-  EXPECT_NEAR(ref.q / ref.p, 0.6149, 0.005) << "ends on the onset curve";
-  // Measured: 3e-4 of p' and 9e-4 of q off in 10 steps, 7e-4 and 1.5e-3 in
-  // 3. Holding the strain in the substeps (the loading left out) puts q
-  // 2.2% off in 10 steps and 6.9% in 3: first order in the step.
-  EXPECT_NEAR(ten.p, ref.p, 1e-3 * ref.p) << "10 steps";
-  EXPECT_NEAR(ten.q, ref.q, 2e-3 * ref.q) << "10 steps";
-  EXPECT_NEAR(three.p, ref.p, 2e-3 * ref.p) << "3 steps";
-  EXPECT_NEAR(three.q, ref.q, 5e-3 * ref.q) << "3 steps";
-  // The reference agrees with the explicit law in small steps (q 1% off,
-  // first order, as for the held sample).
-  const HeldSample many = erode_held_sample("explicit", 4000, strain);
-  EXPECT_NEAR(many.p, ref.p, 2e-3 * ref.p) << "the explicit law in small steps";
-  EXPECT_NEAR(many.q, ref.q, 1.5e-2 * ref.q);
 }
 
 }  // namespace

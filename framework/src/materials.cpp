@@ -50,35 +50,56 @@ void Materials::tangent(Domain& d, double dt, std::vector<double>& stiffness) co
   }
 }
 
-void Materials::update_stress(Domain& d, double dt) const {
-  PointSet& points = d.points;
+template <class F>
+void Materials::for_each_batch(Domain& d, const F& f) const {
   for (const BodyPoints& body : d.bodies) {
     const Phase& phase = phases_[body.material].phase();
-    // A phase that throws is named, with the points of its batch.
-    auto failed = [&](const std::exception& e, const PointRange& range) {
-      return Error("phase " + names_[body.material] + " failed on material points " +
-                   std::to_string(d.first_point() + range.begin) + " to " +
-                   std::to_string(d.first_point() + range.end - 1) + " of body '" + body.name +
-                   "': " + e.what());
-    };
     d.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {
       const PointRange range{body.range.begin + b, body.range.begin + e};
       try {
-      std::span<const double> eigenstrain;
-      if (phase.writes_eigenstrain()) {
-        const std::span<double> increment(points.data(*eigenstrain_increment_) + range.begin * 6, range.size() * 6);
-        std::fill(increment.begin(), increment.end(), 0.0);  // a point the phase skips gets none
-        phase.eigenstrain(StressBatch{points, range, dt, {}}, increment);
-        double* total = points.data(*eigenstrain_) + range.begin * 6;
-        for (std::size_t k = 0; k < increment.size(); ++k) total[k] += increment[k];
-        eigenstrain = increment;
-      }
-      phase.update_stress(StressBatch{points, range, dt, eigenstrain});
+        f(phase, range);
       } catch (const std::exception& error) {
-        throw failed(error, range);
+        throw Error("phase " + names_[body.material] + " failed on material points " +
+                    std::to_string(d.first_point() + range.begin) + " to " +
+                    std::to_string(d.first_point() + range.end - 1) + " of body '" + body.name +
+                    "': " + error.what());
       }
     });
   }
+}
+
+// The phase's eigenstrain increment of the step into "eigenstrain_increment",
+// added to the accumulated "eigenstrain".
+void Materials::impose_eigenstrain(const Phase& phase, PointSet& points, const PointRange& range, double dt) const {
+  if (!phase.writes_eigenstrain()) return;
+  const std::span<double> increment(points.data(*eigenstrain_increment_) + range.begin * 6, range.size() * 6);
+  std::fill(increment.begin(), increment.end(), 0.0);  // a point the phase skips gets none
+  phase.eigenstrain(StressBatch{points, range, dt, {}}, increment);
+  double* total = points.data(*eigenstrain_) + range.begin * 6;
+  for (std::size_t k = 0; k < increment.size(); ++k) total[k] += increment[k];
+}
+
+std::span<const double> Materials::imposed_eigenstrain(const Phase& phase, PointSet& points,
+                                                       const PointRange& range) const {
+  if (!phase.writes_eigenstrain()) return {};
+  return {points.data(*eigenstrain_increment_) + range.begin * 6, range.size() * 6};
+}
+
+void Materials::update_stress(Domain& d, double dt) const {
+  for_each_batch(d, [&](const Phase& phase, const PointRange& range) {
+    impose_eigenstrain(phase, d.points, range, dt);
+    phase.update_stress(StressBatch{d.points, range, dt, imposed_eigenstrain(phase, d.points, range)});
+  });
+}
+
+void Materials::impose_eigenstrain(Domain& d, double dt) const {
+  for_each_batch(d, [&](const Phase& phase, const PointRange& range) { impose_eigenstrain(phase, d.points, range, dt); });
+}
+
+void Materials::update_stress_with_imposed_eigenstrain(Domain& d, double dt) const {
+  for_each_batch(d, [&](const Phase& phase, const PointRange& range) {
+    phase.update_stress(StressBatch{d.points, range, dt, imposed_eigenstrain(phase, d.points, range)});
+  });
 }
 
 }  // namespace suffuse::detail

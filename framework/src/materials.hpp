@@ -3,6 +3,7 @@
 // (effective) stress of its points, with the eigenstrain a phase may impose.
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "domain.hpp"
@@ -25,6 +26,13 @@ class Materials {
   // that writes an eigenstrain is asked for it first; the core adds it to
   // the point's "eigenstrain" and hands it to the stress update.
   void update_stress(Domain& domain, double dt) const;
+  // The same in two parts, for quasi-static steps, whose Newton iterations
+  // share the step's eigenstrain: asked once, before the solve, from the
+  // state at the step's start (impose_eigenstrain), then handed to every
+  // iteration's stress update (update_stress_with_imposed_eigenstrain).
+  bool writes_eigenstrain() const { return eigenstrain_.has_value(); }
+  void impose_eigenstrain(Domain& domain, double dt) const;
+  void update_stress_with_imposed_eigenstrain(Domain& domain, double dt) const;
 
   // Quasi-static runs. The fields the stress stage writes (the stress, each
   // phase's state, the eigenstrain): an iteration starts from their values
@@ -40,6 +48,13 @@ class Materials {
   std::vector<std::string> names_;  // "phase/x of material 'm' (/materials/m)", for messages
   std::optional<FieldId> eigenstrain_, eigenstrain_increment_;
   std::vector<FieldId> state_fields_;
+
+  // f(phase, range) on every batch of every body, a phase that throws named
+  // with the points of its batch.
+  template <class F>
+  void for_each_batch(Domain& domain, const F& f) const;
+  void impose_eigenstrain(const Phase& phase, PointSet& points, const PointRange& range, double dt) const;
+  std::span<const double> imposed_eigenstrain(const Phase& phase, PointSet& points, const PointRange& range) const;
 };
 
 }  // namespace suffuse::detail

@@ -42,18 +42,18 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
 
 QuasiStatic::~QuasiStatic() = default;
 
-void QuasiStatic::save_state() {
+void QuasiStatic::save_state(std::vector<std::vector<double>>& into) const {
   const auto& ids = materials_.stress_state_fields();
-  saved_.resize(ids.size());
+  into.resize(ids.size());
   for (std::size_t k = 0; k < ids.size(); ++k) {
     const auto v = d_.points.values(ids[k]);
-    saved_[k].assign(v.begin(), v.end());
+    into[k].assign(v.begin(), v.end());
   }
 }
 
-void QuasiStatic::restore_state() {
+void QuasiStatic::restore_state(const std::vector<std::vector<double>>& from) {
   const auto& ids = materials_.stress_state_fields();
-  for (std::size_t k = 0; k < ids.size(); ++k) std::copy(saved_[k].begin(), saved_[k].end(), d_.points.data(ids[k]));
+  for (std::size_t k = 0; k < ids.size(); ++k) std::copy(from[k].begin(), from[k].end(), d_.points.data(ids[k]));
 }
 
 void QuasiStatic::prepare(double time, double dt) {
@@ -299,7 +299,7 @@ double QuasiStatic::evaluate(double dt) {
   const std::size_t nn = d_.grid.node_count();
   for (std::size_t k = 0; k < du_.size(); ++k) d_.nodes.velocity[k] = du_[k] / dt;
   d_.update_velocity_gradient(dt);
-  materials_.update_stress(d_, dt);
+  materials_.update_stress_with_imposed_eigenstrain(d_, dt);
 
   PointSet& pts = d_.points;
   const auto& c = pts.core();
@@ -374,9 +374,17 @@ std::optional<int> QuasiStatic::solve(double time, double dt) {
   prepare(time, dt);
   prepare_blocks();
   residual_.assign(equations_, 0.0);
-  save_state();
+  // The step's eigenstrain, once: every iteration starts from the state
+  // with it imposed (a phase's eigenstrain is a function of the state at
+  // the step's start, not of the iterate).
+  if (materials_.writes_eigenstrain()) {
+    save_state(step_start_);
+    materials_.impose_eigenstrain(d_, dt);
+  }
+  save_state(saved_);
   int iterations = 0;
   if (newton(dt, iterations)) return iterations;
+  if (materials_.writes_eigenstrain()) restore_state(step_start_);
   return std::nullopt;
 }
 
@@ -408,7 +416,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
     return u > 0 && du <= 1e-12 * u && dp <= 1e-12 * p;
   };
   bool last_step_is_round_off = false;
-  restore_state();
+  restore_state(saved_);
   double norm = evaluate(dt);
   for (int iteration = 0;; ++iteration) {
     if (!std::isfinite(norm)) break;
@@ -436,7 +444,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
       for (std::size_t I = 0; I < p_dof_.size(); ++I)
         if (p_dof_[I] >= 0) p_[I] = p0[I] + alpha * delta[p_dof_[I]];
       follow_tail_nodes();
-      restore_state();
+      restore_state(saved_);
       norm = evaluate(dt);
       if (halving == 6 || (std::isfinite(norm) && merit() <= (1 - 1e-4 * alpha) * before)) break;
       alpha /= 2;
@@ -444,7 +452,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
     last_step_is_round_off = alpha == 1 && round_off(delta);
   }
   describe_failure();
-  restore_state();
+  restore_state(saved_);
   return false;
 }
 

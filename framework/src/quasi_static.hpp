@@ -100,8 +100,8 @@ class QuasiStatic {
  private:
   struct Linear;  // the sparse system and its factorisation
   void prepare(double time, double dt);  // degrees of freedom, constraints, loads of the step
-  void save_state();
-  void restore_state();
+  void save_state(std::vector<std::vector<double>>& into) const;
+  void restore_state(const std::vector<std::vector<double>>& from);
   double evaluate(double dt);  // stresses from du, p; the residual; returns the norm of the forces'
   // Newton iterations from the current du, p, with a backtracking line
   // search; counts them; true if they converged (the state is then that of
@@ -125,7 +125,10 @@ class QuasiStatic {
   // Nodal sums of the points' terms over the processes (one process: nothing).
   void sum_over_processes(std::vector<double>& v) const { d_.comm.sum(v); }
 
-  std::vector<std::vector<double>> saved_;  // the stress state at the start of the step
+  std::vector<std::vector<double>> saved_;  // the stress state an iteration starts from
+  // The stress state at the start of the step, where the step's eigenstrain
+  // was imposed before the iterations (restored if they fail).
+  std::vector<std::vector<double>> step_start_;
   std::vector<double> tangent_;             // 36 per point
   NodeState probe_;                         // what the boundary conditions do to the nodes
   std::vector<std::int64_t> u_dof_, p_dof_;  // per node component / node: equation, or -1 (none or fixed)

@@ -129,7 +129,10 @@ class Phase {
   virtual bool writes_eigenstrain() const { return false; }
   // Write the eigenstrain increment of this step for the batch, 6 per point
   // (Voigt, tensor components, tension positive), before update_stress. The
-  // span arrives zeroed: a point the phase leaves alone gets none.
+  // span arrives zeroed: a point the phase leaves alone gets none. In
+  // quasi-static runs it is asked once per step, before the solve, from the
+  // state at the step's start, and every Newton iteration's update_stress
+  // gets the same increment: it may not depend on the velocity gradient.
   virtual void eigenstrain(const StressBatch& batch, std::span<double> increment) const {
     (void)batch; (void)increment;
   }

@@ -16,7 +16,7 @@
 // The stress ratio of a step ("integration"): explicit, the step's start
 // (the study's law as written, for steps that erode little: explicit runs,
 // the element tests); substeps, the ratio each substep of the step's erosion
-// leaves the point at, under the loading of its last step (relax() below). That
+// leaves the point at, its total strain held (relax() below). That
 // relaxation is stiff where the confinement is low (a shear strain of 1e-3
 // relaxes q by 3 G 1e-3, 23 kPa at E = 20 MPa, against a p' of a few kPa),
 // and a quasi-static step that erodes 1e-3 of the solid at the step's
@@ -114,9 +114,9 @@ class Suffosion final : public suffuse::Phase {
     s.choice("integration", {"explicit", "substeps"}).fallback(std::string("explicit")).doc(
         "How a step's erosion-induced strain is integrated. explicit: at the stress ratio of the step's start (the "
         "study's law as written; right where a step erodes little, as in explicit runs and the element tests). "
-        "substeps: in substeps, each at the stress ratio the last left (the point's own relaxation, with the base's "
-        "elastic stiffness, under the loading of its last step per unit of erosion): for quasi-static steps that "
-        "erode much where the confinement is low");
+        "substeps: in substeps at the point's held total strain, each at the stress ratio the last left (the "
+        "point's own relaxation, with the base's elastic stiffness): for quasi-static steps that erode much where "
+        "the confinement is low");
     s.number("initial_void_ratio").with_unit("-").above(0).may_be_absent().doc(
         "e_0, for a base that tracks no void ratio (phase/mohr_coulomb): the phase then reports void_ratio. A base "
         "that tracks one (phase/modified_cam_clay) gives e_0 at each point, and this is not used");
@@ -161,11 +161,6 @@ class Suffosion final : public suffuse::Phase {
     if (!e_ && e0_given_)
       e_ = points.add_field({"void_ratio", K::Scalar, "-", "void ratio e, with the fines lost", true});
     psi_ = points.find("state_parameter");
-    if (!substeps_) return;
-    last_strain_ = points.add_field({"suffosion_last_strain_increment", K::SymmetricTensor, "-",
-                                     "the point's total strain increment of the last step (substeps)", false});
-    last_df_ = points.add_field({"suffosion_last_eroded_fraction_increment", K::Scalar, "-",
-                                 "the eroded fraction increment the last step's strain came with (substeps)", false});
   }
 
   void initialise(suffuse::PointSet& points, suffuse::PointRange range) const override {
@@ -198,13 +193,7 @@ class Suffosion final : public suffuse::Phase {
     double* es = pts.data(es_);
     double* onset = pts.data(onset_);
     std::vector<double> stiffness;  // substeps: the base's elastic stiffness, 36 per point
-    const double* last_strain = nullptr;
-    const double* last_df = nullptr;
-    if (substeps_) {
-      elastic_stiffness_of(b, stiffness);
-      last_strain = pts.data(*last_strain_);
-      last_df = pts.data(*last_df_);
-    }
+    if (substeps_) elastic_stiffness_of(b, stiffness);
     for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
       const double* s = stress + p * 6;
       const double mean = t::mean_stress(s), q = t::deviatoric_stress(s);
@@ -217,8 +206,7 @@ class Suffosion final : public suffuse::Phase {
       SuffosionLaw::Strain d;
       t::Voigt e;
       if (substeps_ && f[p] - std::max(f[p] - df[p], 0.0) > 0) {  // erodes past the lowest onset (0)
-        const double* D = stiffness.data() + (p - b.range.begin) * 36;
-        const Relaxed r = relax(s, dev, q, D, loading(p, D, df[p], last_strain, last_df), f[p], df[p]);
+        const Relaxed r = relax(s, dev, q, stiffness.data() + (p - b.range.begin) * 36, f[p], df[p]);
         onset[p] = law_.onset(r.eta);
         d = r.strain, e = r.tensor;
       } else {
@@ -244,20 +232,8 @@ class Suffosion final : public suffuse::Phase {
   }
   void update_stress(const suffuse::StressBatch& b) const override {
     base_->update_stress(b);
-    suffuse::PointSet& pts = b.points;
-    if (substeps_) {  // the loading the next step's substeps extrapolate
-      const suffuse::StressBatch total{pts, b.range, b.dt, {}};
-      double* last = pts.data(*last_strain_);
-      double* last_df = pts.data(*last_df_);
-      const double* df = pts.data(df_);
-      for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
-        const suffuse::StepIncrement inc = suffuse::step_increment(total, p);
-        for (int i = 0; i < 3; ++i)
-          for (int j = i; j < 3; ++j) last[p * 6 + t::voigt_index(i, j)] = inc.strain[i][j];
-        last_df[p] = df[p];
-      }
-    }
     if (!e_) return;
+    suffuse::PointSet& pts = b.points;
     const double* strain = pts.data(pts.core().strain);
     const double* f = pts.data(f_);
     const double* e0 = pts.data(e0_);
@@ -294,30 +270,11 @@ class Suffosion final : public suffuse::Phase {
     for (std::size_t i = 0; i < b.range.size(); ++i) t::isotropic_stiffness(K, G, D.data() + i * 36);
   }
 
-  // The stress the point's surroundings add per unit of this step's
-  // erosion, extrapolated from the last step: its total strain increment
-  // over the erosion it came with, D de / df. Without it the substeps hold
-  // the point's strain and a quasi-static step's erosion-induced strain is
-  // bounded by the point's own relaxation, its surroundings loading it again
-  // only at the next equilibrium (the settlement lagged, first order in the
-  // step). It is known before the solve: Newton's iterations see a fixed
-  // eigenstrain, and converge as before.
-  static t::Voigt loading(std::size_t p, const double* D, double df, const double* last_strain,
-                          const double* last_df) {
-    t::Voigt out{};
-    if (!(last_df[p] > 0) || !(df > 0)) return out;
-    const double* e = last_strain + p * 6;
-    for (int i = 0; i < 6; ++i)
-      for (int j = 0; j < 6; ++j) out[i] += D[i * 6 + j] * e[j] * (j < 3 ? 1.0 : 2.0) / last_df[p];
-    return out;
-  }
-
-  // A step's erosion-induced strain in substeps, each at the stress ratio
-  // the last left: the point's own relaxation (base's elastic stiffness D,
-  // frozen over the step) under the stress `load` adds per unit of erosion,
-  // by Heun's method (a held sample eroding 1% in one step ends within 3e-4
-  // of an independent integration, a loaded one in 10 steps within 9e-4:
-  // tests/test_suffosion.cpp). A substep changes
+  // A step's erosion-induced strain in substeps at the point's held total
+  // strain, each at the stress ratio the last left: the point's own
+  // relaxation (base's elastic stiffness D, frozen over the step), by Heun's
+  // method (a held sample eroding 1% in one step ends within 3e-4 of an
+  // independent integration: tests/test_suffosion.cpp). A substep changes
   // p' or q by at most a fiftieth of p' (on the onset curve below, up to
   // half of p' before its share); once p' falls below a
   // thousandth of its start the point is slack and the rest of the step's
@@ -328,8 +285,7 @@ class Suffosion final : public suffuse::Phase {
     t::Voigt tensor{};
     double eta = 0;  // the ratio the substeps leave
   };
-  Relaxed relax(const double* s, const t::Voigt& dev, double q0, const double* D, const t::Voigt& load, double f,
-                double df) const {
+  Relaxed relax(const double* s, const t::Voigt& dev, double q0, const double* D, double f, double df) const {
     constexpr double stress_change = 0.02, largest_change = 0.5, slack = 1e-3;
     constexpr int most_substeps = 1000;
     auto along = [&](const t::Voigt& v) {  // (3/2) v' : dev / q0, the change of q along dev
@@ -350,8 +306,6 @@ class Suffosion final : public suffuse::Phase {
       const double p = t::mean_stress(v.data());
       return p > 0 ? std::min(std::max(0.0, along(v)) / p, law_.eta_max) : law_.eta_max;
     };
-    // The loading, per unit of erosion, sizes the substeps too.
-    const double load_change = std::max(std::abs(t::mean_stress(load.data())), std::abs(along(load)));
     // On the onset curve a substep takes a share of its strain: the next
     // erodes more, for the same change of stress (its full strain changing
     // the stress by at most half of p').
@@ -360,22 +314,17 @@ class Suffosion final : public suffuse::Phase {
       const double p = t::mean_stress(sigma.data());
       if (!(p > slack * p0)) break;
       const double eta = out.eta = ratio(sigma);
-      if (done < law_.onset(eta)) {  // nothing deforms until f_er reaches the onset; the loading goes on
-        const double step = std::min(law_.onset(eta), f) - done;
-        const double loaded = load_change > 0 ? std::min(step, stress_change * p / load_change) : step;
-        for (int c = 0; c < 6; ++c) sigma[c] += load[c] * loaded;
-        done += loaded;
+      if (done < law_.onset(eta)) {  // nothing deforms, the stress stays, until f_er reaches the onset
+        done = std::min(f, law_.onset(eta));
         continue;
       }
       // Stress change per unit of erosion at this ratio, to size the substep.
       const t::Voigt unit = stress_of(strain_tensor({law_.volumetric_rate(eta), law_.shear_rate(eta)}, dev, q0));
-      const double change = std::max(std::abs(t::mean_stress(unit.data())), std::abs(along(unit))) + load_change;
+      const double change = std::max(std::abs(t::mean_stress(unit.data())), std::abs(along(unit)));
       const double step = std::min(f - done, stress_change * p / change * on_curve);
       // Heun: the strain at this ratio and at the ratio it would leave, averaged.
       const SuffosionLaw::Strain d0 = law_.of_step(eta, done + step, step);
-      t::Voigt loaded = sigma;
-      for (int c = 0; c < 6; ++c) loaded[c] += load[c] * step;
-      t::Voigt predicted = loaded;
+      t::Voigt predicted = sigma;
       const t::Voigt relief0 = stress_of(strain_tensor(d0, dev, q0));
       for (int c = 0; c < 6; ++c) predicted[c] -= relief0[c];
       const double eta1 = ratio(predicted), onset1 = law_.onset(eta1);
@@ -386,14 +335,13 @@ class Suffosion final : public suffuse::Phase {
         // curve at the substep's end, onset(eta) = done + step (eta linear in
         // the share; bisection, the onset being steep near M_so), and so
         // follows the curve instead of overshooting past it.
-        const double eta0 = ratio(loaded);  // share 0: the loading alone
         double lo = 0, hi = 1;
         for (int i = 0; i < 50; ++i) {
           const double share = 0.5 * (lo + hi);
-          (law_.onset(eta0 + share * (eta1 - eta0)) > done + step ? hi : lo) = share;
+          (law_.onset(eta + share * (eta1 - eta)) > done + step ? hi : lo) = share;
         }
         d = {lo * d0.volumetric, lo * d0.shear};
-        out.eta = eta0 + lo * (eta1 - eta0);
+        out.eta = eta + lo * (eta1 - eta);
         on_curve = std::min(1 / std::max(lo, 1e-3), largest_change / stress_change);
       } else {
         const SuffosionLaw::Strain d1 = law_.of_step(eta1, done + step, step);
@@ -402,7 +350,6 @@ class Suffosion final : public suffuse::Phase {
         on_curve = 1;
       }
       done += step;
-      sigma = loaded;
       if (d.volumetric == 0 && d.shear == 0) continue;  // before the onset
       out.strain.volumetric += d.volumetric;
       out.strain.shear += d.shear;
@@ -418,7 +365,7 @@ class Suffosion final : public suffuse::Phase {
   std::optional<double> e0_given_;
   std::string where_;
   suffuse::FieldId f_ = 0, df_ = 0, ev_ = 0, es_ = 0, onset_ = 0, e0_ = 0, base_e_ = 0;
-  std::optional<suffuse::FieldId> e_, psi_, last_strain_, last_df_;
+  std::optional<suffuse::FieldId> e_, psi_;
 };
 
 }  // namespace
