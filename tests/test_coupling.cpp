@@ -144,39 +144,56 @@ TEST(CoupledPhase, StressFollowsTheStiffnessOnAHeldSkeleton) {
   }
 }
 
+// A block of phase/test_swelling (eps* = rate t in x and y, rate 0.01 1/s,
+// E = 1 MPa, nu = 0) from min to max, without gravity, to t = 2 s: the
+// eigenstrain is then 0.02.
+constexpr double swelling_strain = 0.01 * 2.0;
+nlohmann::json swelling_block(const std::vector<double>& min, const std::vector<double>& max) {
+  nlohmann::json j;
+  j["dimension"] = 2;
+  j["plugin_paths"] = {std::string(SUFFUSE_TEST_PLUGIN_DIR) + "/swelling"};
+  j["gravity"] = {0.0, 0.0};
+  j["materials"]["clay"] = {{"type", "phase/test_swelling"}, {"density", 1000.0}, {"youngs_modulus", 1e6}, {"rate", 0.01}};
+  j["bodies"] = {{{"material", "clay"}, {"min", min}, {"max", max}}};
+  j["time"] = {{"end", 2.0}};
+  return j;
+}
+
+// The fields the swelling tests read.
+struct SwollenPoints {
+  const double *x, *u, *s, *e;
+  explicit SwollenPoints(const suffuse::PointSet& pts)
+      : x(pts.data(pts.core().position)),
+        u(pts.data(pts.core().displacement)),
+        s(pts.data(pts.core().stress)),
+        e(pts.data(pts.id("eigenstrain"))) {}
+};
+
 // The core applies an eigenstrain consistently: a free body (no supports, no
 // gravity, damped) given a slowly growing in-plane eigenstrain eps* = rate t
 // expands with it and stays free of stress.
 TEST(Eigenstrain, FreeBodyFollowsItWithoutStress) {
-  nlohmann::json j;
-  j["dimension"] = 2;
-  j["plugin_paths"] = {std::string(SUFFUSE_TEST_PLUGIN_DIR) + "/swelling"};
+  nlohmann::json j = swelling_block({-0.5, -0.5}, {0.5, 0.5});
   j["damping"] = 0.1;
   j["grid"] = {{"origin", {-1.0, -1.0}}, {"cell_size", {0.1, 0.1}}, {"cells", {20, 20}}};
   j["shape_function"] = {{"type", "shape/gimp"}};
-  j["materials"]["clay"] = {{"type", "phase/test_swelling"}, {"density", 1000.0}, {"youngs_modulus", 1e6}, {"rate", 0.01}};
-  j["bodies"] = {{{"material", "clay"}, {"min", {-0.5, -0.5}}, {"max", {0.5, 0.5}}}};
-  j["time"] = {{"end", 2.0}};
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
   sim.run({});
   const auto& pts = sim.points();
-  const double* x = pts.data(pts.core().position);
-  const double* u = pts.data(pts.core().displacement);
-  const double* s = pts.data(pts.core().stress);
-  const double* e = pts.data(pts.id("eigenstrain"));
-  const double strain = 0.01 * 2.0;
+  const SwollenPoints f(pts);
+  const double strain = swelling_strain;
   double worst_u = 0, worst_s = 0;
   for (std::size_t p = 0; p < pts.size(); ++p) {
     for (int i = 0; i < 2; ++i) {
-      const double x0 = x[2 * p + i] - u[2 * p + i];  // the body is centred on the origin
-      worst_u = std::max(worst_u, std::abs(u[2 * p + i] - strain * x0));
+      const double x0 = f.x[2 * p + i] - f.u[2 * p + i];  // the body is centred on the origin
+      worst_u = std::max(worst_u, std::abs(f.u[2 * p + i] - strain * x0));
     }
-    for (int c = 0; c < 6; ++c) worst_s = std::max(worst_s, std::abs(s[p * 6 + c]));
-    EXPECT_NEAR(e[p * 6 + 0], strain, 1e-12);
-    EXPECT_NEAR(e[p * 6 + 1], strain, 1e-12);
-    EXPECT_EQ(e[p * 6 + 2], 0.0);
+    for (int c = 0; c < 6; ++c) worst_s = std::max(worst_s, std::abs(f.s[p * 6 + c]));
+    EXPECT_NEAR(f.e[p * 6 + 0], strain, 1e-12);
+    EXPECT_NEAR(f.e[p * 6 + 1], strain, 1e-12);
+    EXPECT_EQ(f.e[p * 6 + 2], 0.0);
   }
   RecordProperty("worst_displacement_error", sci(worst_u / (0.5 * strain)));
   RecordProperty("worst_stress", sci(worst_s / (1e6 * strain)));
@@ -189,37 +206,29 @@ TEST(Eigenstrain, FreeBodyFollowsItWithoutStress) {
 // against rigid motion (rollers on its left and bottom faces), ends at
 // eps* = rate t exactly, stress free, displaced by eps* x (within 2%).
 TEST(Eigenstrain, QuasiStaticStepsImposeItOncePerStep) {
-  nlohmann::json j;
-  j["dimension"] = 2;
-  j["plugin_paths"] = {std::string(SUFFUSE_TEST_PLUGIN_DIR) + "/swelling"};
-  j["gravity"] = {0.0, 0.0};
+  nlohmann::json j = swelling_block({0.0, 0.0}, {1.0, 1.0});
   j["grid"] = {{"origin", {0.0, 0.0}}, {"cell_size", {0.1, 0.1}}, {"cells", {12, 12}}};
   j["shape_function"] = {{"type", "shape/linear"}};
-  j["materials"]["clay"] = {{"type", "phase/test_swelling"}, {"density", 1000.0}, {"youngs_modulus", 1e6}, {"rate", 0.01}};
-  j["bodies"] = {{{"material", "clay"}, {"min", {0.0, 0.0}}, {"max", {1.0, 1.0}}}};
   j["boundary_conditions"] = {{{"type", "bc/velocity"}, {"face", "left"}, {"vx", 0.0}},
                               {{"type", "bc/velocity"}, {"face", "bottom"}, {"vy", 0.0}}};
-  j["time"] = {{"end", 2.0}, {"integration", "quasi_static"}, {"dt", 0.25}, {"max_dt", 0.25}};
+  j["time"].update({{"integration", "quasi_static"}, {"dt", 0.25}, {"max_dt", 0.25}});
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
   sim.run({});
   ASSERT_NEAR(sim.time(), 2.0, 1e-12);
   const auto& pts = sim.points();
-  const double* x = pts.data(pts.core().position);
-  const double* u = pts.data(pts.core().displacement);
-  const double* s = pts.data(pts.core().stress);
-  const double* e = pts.data(pts.id("eigenstrain"));
-  const double strain = 0.01 * 2.0;
+  const SwollenPoints f(pts);
+  const double strain = swelling_strain;
   for (std::size_t p = 0; p < pts.size(); ++p) {
-    EXPECT_NEAR(e[p * 6 + 0], strain, 1e-12) << "point " << p;
-    EXPECT_NEAR(e[p * 6 + 1], strain, 1e-12);
+    EXPECT_NEAR(f.e[p * 6 + 0], strain, 1e-12) << "point " << p;
+    EXPECT_NEAR(f.e[p * 6 + 1], strain, 1e-12);
     // 2%, as above: the steps' strains are taken on the moving body (0.9% here)
     for (int i = 0; i < 2; ++i) {
-      const double x0 = x[2 * p + i] - u[2 * p + i];
-      EXPECT_NEAR(u[2 * p + i], strain * x0, 0.02 * strain * x0 + 1e-12);
+      const double x0 = f.x[2 * p + i] - f.u[2 * p + i];
+      EXPECT_NEAR(f.u[2 * p + i], strain * x0, 0.02 * strain * x0 + 1e-12);
     }
-    for (int c = 0; c < 6; ++c) EXPECT_NEAR(s[p * 6 + c], 0.0, 1e-6 * 1e6 * strain);
+    for (int c = 0; c < 6; ++c) EXPECT_NEAR(f.s[p * 6 + c], 0.0, 1e-6 * 1e6 * strain);
   }
 }
 
