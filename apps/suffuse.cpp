@@ -501,7 +501,8 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
                 << " MB received per step by the first process\n";
     if (scene.integration == suffuse::TimeIntegration::quasi_static)
       std::cout << "  equilibrium: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps; "
-                << s.halved_steps << " attempts halved\n";
+                << s.halved_steps << " attempts halved; " << s.factorisations << " factorisations, "
+                << s.gmres_iterations << " GMRES iterations\n";
     if (s.transport_substeps > 0)
       std::cout << "  transport: " << s.transport_substeps << " substeps; " << s.steady_transport_steps << " of "
                 << s.steps << " steps ended by one implicit step once the transport was steady\n";

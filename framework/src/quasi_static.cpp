@@ -431,7 +431,17 @@ bool QuasiStatic::newton(double dt, int& iterations) {
     materials_.tangent(d_, dt, tangent_);
     assemble(dt);
     for (std::size_t e = 0; e < equations_; ++e) rhs[static_cast<Eigen::Index>(e)] = residual_[e];
-    const Eigen::VectorXd delta = L.solve(rhs);
+    // After the attempt's first iteration the factors of an earlier one
+    // precondition GMRES (quasi_static_linear.hpp); factorised if it does
+    // not converge with them.
+    std::optional<Eigen::VectorXd> reused;
+    if (iteration > 0 && L.has_factors && control.reuse_factors) {
+      int its = 0;
+      reused = L.solve_reusing_factors(rhs, its);
+      gmres_iterations_ += static_cast<std::size_t>(its);
+    }
+    if (!reused && !L.distributed) factorise_or_throw();
+    const Eigen::VectorXd delta = reused ? std::move(*reused) : L.solve(rhs);
     // Backtracking: far from equilibrium a full Newton step on a perfectly
     // plastic skeleton can overshoot onto the wrong side of many returns;
     // halve it until the residual falls (Armijo), at most six times.

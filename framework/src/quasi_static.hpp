@@ -14,7 +14,9 @@
 // the inflow. The matrix is symmetric quasi-definite, so a sparse LDL'
 // factorisation exists for any ordering (Vanderbei 1995): Eigen's
 // SimplicialLDLT with AMD ordering; where a phase's tangent is not symmetric
-// (Mohr-Coulomb with psi < phi), SparseLU with COLAMD ordering. The stresses
+// (Mohr-Coulomb with psi < phi), SparseLU with COLAMD ordering; a step's
+// later iterations solve by GMRES with its last factors as preconditioner
+// (quasi_static_linear.hpp, /time/reuse_factors). The stresses
 // come from the phases' own updates, from the state at the start of the
 // step, in every iteration: the tangent only steers the iterations (Newton's
 // method with each phase's consistent tangent where it gives one, a
@@ -96,6 +98,10 @@ class QuasiStatic {
   // The largest sum over the axes of |q_i| / (n h_i) at the points [1/s]:
   // a transport substep of Courant number C lasts C over it.
   double transport_rate() const;
+  // Linear solves so far on one process: factorisations, and GMRES
+  // iterations with the factors of an earlier matrix (quasi_static_linear.hpp).
+  std::size_t factorisations() const { return factorisations_; }
+  std::size_t gmres_iterations() const { return gmres_iterations_; }
 
  private:
   struct Linear;  // the sparse system and its factorisation
@@ -109,6 +115,7 @@ class QuasiStatic {
   bool newton(double dt, int& iterations);
   void prepare_blocks();  // the node pairs the matrix couples, after prepare
   void assemble(double dt);  // the matrix, from the tangents at the iterate
+  void factorise_or_throw();
   void describe_failure();  // failure_, from the last iterate
   // du of the tail nodes: the mean, weighted by N m, of the increments the
   // other nodes give the points they reach (a translation or rotation of
@@ -175,6 +182,7 @@ class QuasiStatic {
   double force_scale_ = 0;
   std::size_t equations_ = 0, displacement_equations_ = 0;  // the displacements' come first
   std::string failure_;
+  std::size_t factorisations_ = 0, gmres_iterations_ = 0;
 };
 
 }  // namespace suffuse::detail

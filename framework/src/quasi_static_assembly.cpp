@@ -14,16 +14,95 @@ namespace suffuse::detail {
 namespace {
 
 
+// The Voigt components (xx, yy, zz, yz, xz, xy) a displacement strains:
+// in plane strain only xx, yy and xy.
+template <int dim>
+constexpr std::array<int, 6> strained_components =
+    dim == 2 ? std::array<int, 6>{0, 1, 5, 0, 0, 0} : std::array<int, 6>{0, 1, 2, 3, 4, 5};
+template <int dim>
+constexpr int strained_count = dim == 2 ? 3 : 6;
+
 // Engineering strain of the Voigt component r from the displacement of a
-// node along axis i, g its shape function's gradient padded to 3 components
-// (zero out of plane): B[r][i].
+// node along axis i, g its shape function's gradient: B[r][i].
+template <int dim>
 inline double strain_of(int r, int i, const double* g) {
-  static constexpr int first[6] = {0, 1, 2, 1, 0, 0}, second[6] = {0, 1, 2, 2, 2, 1};
+  constexpr int first[6] = {0, 1, 2, 1, 0, 0}, second[6] = {0, 1, 2, 2, 2, 1};
   const int k = first[r], l = second[r];
   if (k == l) return i == k ? g[i] : 0.0;
   if (i == k) return g[l];
   if (i == l) return g[k];
   return 0.0;
+}
+
+// What one point adds to the blocks of its node pairs (QuasiStatic::assemble).
+struct BlockTerms {
+  const ExpandedSupports& s;
+  const double* tangents;  // 36 per point
+  const double *V, *n, *KL, *K, *rho_w;  // n and the rest null in dry runs
+  const int* point_nodes_ijk;
+  const std::int64_t* block_node;
+  int stencil_radius, stencil_width;
+  std::size_t stencil_slots;
+  double dt;
+  double* blocks;
+  char* block_used;
+};
+
+// Templated on the dimension so that the strain-displacement products,
+// with their zeros, unroll to the few multiplications that are not.
+template <int dim>
+void add_point_blocks(const BlockTerms& t, std::size_t p) {
+  constexpr int w = dim + 1, bsize = w * w, rows = strained_count<dim>;
+  constexpr auto component = strained_components<dim>;
+  const int npp = t.s.npp;
+  double D[rows][rows];
+  for (int r = 0; r < rows; ++r)
+    for (int q = 0; q < rows; ++q) D[r][q] = t.tangents[p * 36 + component[r] * 6 + component[q]];
+  const double V = t.V[p];
+  const bool wet = t.n && t.n[p] > 0;
+  const double storage = wet ? V * t.n[p] / t.KL[p] : 0.0;
+  const double flow = wet ? V * t.dt * t.K[p] / (t.rho_w[p] * reference_gravity) : 0.0;
+  const int* ijk = &t.point_nodes_ijk[p * npp * 3];
+  for (int b = 0; b < npp; ++b) {
+    const std::size_t qb = p * npp + b;
+    const double* gb = &t.s.gradients[qb * dim];
+    const double Nb = t.s.weights[qb];
+    double DB[rows][dim];
+    for (int r = 0; r < rows; ++r)
+      for (int j = 0; j < dim; ++j) {
+        double v = 0;
+        for (int q = 0; q < rows; ++q) v += D[r][q] * strain_of<dim>(component[q], j, gb);
+        DB[r][j] = V * v;
+      }
+    for (int a = 0; a < npp; ++a) {
+      const std::size_t qa = p * npp + a;
+      const std::int64_t row_node = t.block_node[t.s.ids[qa]];
+      if (row_node < 0) continue;
+      std::size_t slot = 0;
+      for (int i = dim - 1; i >= 0; --i)
+        slot = slot * t.stencil_width + (ijk[b * 3 + i] - ijk[a * 3 + i] + t.stencil_radius);
+      slot += static_cast<std::size_t>(row_node) * t.stencil_slots;
+      t.block_used[slot] = 1;
+      double* B = &t.blocks[slot * bsize];
+      const double* ga = &t.s.gradients[qa * dim];
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j) {
+          double v = 0;
+          for (int r = 0; r < rows; ++r) v += strain_of<dim>(component[r], i, ga) * DB[r][j];
+          B[i * w + j] += v;
+        }
+      if (!wet) continue;
+      // -Q: the pressure's force, and (transposed) the volume change; -C: storage and flow.
+      const double Na = t.s.weights[qa];
+      double grad_dot = 0;
+      for (int i = 0; i < dim; ++i) {
+        B[i * w + dim] -= V * ga[i] * Nb;
+        B[dim * w + i] -= V * gb[i] * Na;
+        grad_dot += ga[i] * gb[i];
+      }
+      B[dim * w + dim] -= storage * Na * Nb + flow * grad_dot;
+    }
+  }
 }
 
 // Whether every point's 6x6 tangent is symmetric (to round-off of its largest entry).
@@ -39,10 +118,6 @@ bool symmetric_tangents(const std::vector<double>& tangents) {
     if (asymmetry > 1e-12 * largest) return false;
   }
   return true;
-}
-
-inline std::array<double, 3> padded(const double* g, int dim) {
-  return {g[0], dim > 1 ? g[1] : 0.0, dim > 2 ? g[2] : 0.0};
 }
 
 }  // namespace
@@ -90,7 +165,8 @@ void QuasiStatic::prepare_blocks() {
   const std::size_t b = static_cast<std::size_t>(dim + 1) * (dim + 1);
   blocks_.assign(block_nodes_.size() * stencil_slots_ * b, 0.0);
   block_used_.assign(block_nodes_.size() * stencil_slots_, 0);
-  linear_->ldlt_analysed = linear_->lu_analysed = linear_->distributed_started = false;
+  linear_->distributed_started = false;
+  linear_->value_at.clear();  // the next assembly builds the step's matrix
 }
 
 void QuasiStatic::assemble(double dt) {
@@ -126,55 +202,19 @@ void QuasiStatic::assemble(double dt) {
   // The blocks: row and column i < dim the displacement components, dim the pressure.
   const int w = dim + 1, bsize = w * w;
   std::fill(blocks_.begin(), blocks_.end(), 0.0);
-  double DB[6][3];
-  for (std::size_t p = 0; p < pts.size(); ++p) {
-    const double* D = &tangent_[p * 36];
-    const bool wet = n && n[p] > 0;
-    const double k = wet ? K[p] / (rho_w[p] * reference_gravity) : 0.0;
-    const int* ijk = &point_nodes_ijk_[p * s.npp * 3];
-    for (int b = 0; b < s.npp; ++b) {
-      const std::size_t qb = p * s.npp + b;
-      const double* gb_raw = &s.gradients[qb * dim];
-      const std::array<double, 3> gb = padded(gb_raw, dim);
-      for (int r = 0; r < 6; ++r)
-        for (int j = 0; j < dim; ++j) {
-          double v = 0;
-          for (int q = 0; q < 6; ++q) v += D[r * 6 + q] * strain_of(q, j, gb.data());
-          DB[r][j] = v;
-        }
-      for (int a = 0; a < s.npp; ++a) {
-        const std::size_t qa = p * s.npp + a;
-        const std::int64_t row_node = block_node_[s.ids[qa]];
-        if (row_node < 0) continue;
-        std::size_t slot = 0;
-        for (int i = dim - 1; i >= 0; --i)
-          slot = slot * stencil_width_ + (ijk[b * 3 + i] - ijk[a * 3 + i] + stencil_radius_);
-        slot += static_cast<std::size_t>(row_node) * stencil_slots_;
-        block_used_[slot] = 1;
-        double* B = &blocks_[slot * bsize];
-        const std::array<double, 3> ga = padded(&s.gradients[qa * dim], dim);
-        for (int i = 0; i < dim; ++i)
-          for (int j = 0; j < dim; ++j) {
-            double v = 0;
-            for (int r = 0; r < 6; ++r) v += strain_of(r, i, ga.data()) * DB[r][j];
-            B[i * w + j] += V[p] * v;
-          }
-        if (!wet) continue;
-        // -Q: the pressure's force, and (transposed) the volume change; -C: storage and flow.
-        for (int i = 0; i < dim; ++i) {
-          B[i * w + dim] -= V[p] * ga[i] * s.weights[qb];
-          B[dim * w + i] -= V[p] * gb[i] * s.weights[qa];
-        }
-        double flow = 0;
-        for (int i = 0; i < dim; ++i) flow += ga[i] * gb_raw[i];
-        B[dim * w + dim] -= V[p] * (s.weights[qa] * s.weights[qb] * n[p] / KL[p] + dt * k * flow);
-      }
-    }
-  }
+  const BlockTerms terms{s,  tangent_.data(), V, n, KL, K, rho_w, point_nodes_ijk_.data(), block_node_.data(),
+                         stencil_radius_, stencil_width_, stencil_slots_, dt, blocks_.data(), block_used_.data()};
+  for (std::size_t p = 0; p < pts.size(); ++p) dim == 2 ? add_point_blocks<2>(terms, p) : add_point_blocks<3>(terms, p);
   // Blocks to the sparse matrix: every entry of a used block between two
   // unknowns, zeros included, so that the pattern stays that of the step.
-  auto& t = linear_->triplets;
+  // The step's first assembly builds the matrix from triplets; later ones
+  // write the same entries, in the same order, into its values.
+  Linear& L = *linear_;
+  const bool in_place = L.value_at.size() > 0 && !distributed;
+  auto& t = L.triplets;
   t.clear();
+  double* values = in_place ? L.matrix.valuePtr() : nullptr;
+  std::size_t entry = 0;
   for (std::size_t c = 0; c < block_nodes_.size(); ++c) {
     const auto I = static_cast<std::size_t>(block_nodes_[c]);
     const auto ijk_I = d_.grid.node_ijk(block_nodes_[c]);
@@ -196,12 +236,14 @@ void QuasiStatic::assemble(double dt) {
           if (col < 0) continue;
           double v = B[i * w + j];
           if (i == j && I == J && i < dim && !distributed) v += creep_[I * dim + i];
-          t.emplace_back(static_cast<int>(row), static_cast<int>(col), v);
+          if (in_place)
+            values[L.value_at[entry++]] = v;
+          else
+            t.emplace_back(static_cast<int>(row), static_cast<int>(col), v);
         }
       }
     }
   }
-  Linear& L = *linear_;
   if (distributed) {  // each process adds its points' blocks, and the first the creep term
     if (d_.comm.root())
       for (std::size_t k = 0; k < u_dof_.size(); ++k)
@@ -219,14 +261,28 @@ void QuasiStatic::assemble(double dt) {
     return;
   }
   const auto size = static_cast<Eigen::Index>(equations_);
-  L.matrix.resize(size, size);
-  L.matrix.setFromTriplets(t.begin(), t.end());
+  if (!in_place) {
+    L.matrix.resize(size, size);
+    L.matrix.setFromTriplets(t.begin(), t.end());
+    // Where each triplet's value lies (no two share an entry: one block per node pair).
+    const int* outer = L.matrix.outerIndexPtr();
+    const int* inner = L.matrix.innerIndexPtr();
+    L.value_at.resize(t.size());
+    for (std::size_t e = 0; e < t.size(); ++e)
+      L.value_at[e] = static_cast<std::size_t>(
+          std::lower_bound(inner + outer[t[e].col()], inner + outer[t[e].col() + 1], t[e].row()) - inner);
+    L.new_step_pattern(u_dof_, p_dof_);
+  }
   L.scale.resize(size);
   const Eigen::VectorXd diagonal = L.matrix.diagonal();
   for (Eigen::Index i = 0; i < size; ++i) L.scale[i] = diagonal[i] != 0 ? 1 / std::sqrt(std::abs(diagonal[i])) : 1.0;
   for (Eigen::Index c = 0; c < L.matrix.outerSize(); ++c)
     for (Linear::Matrix::InnerIterator it(L.matrix, c); it; ++it) it.valueRef() *= L.scale[it.row()] * L.scale[it.col()];
-  if (!L.factorise())
+}
+
+void QuasiStatic::factorise_or_throw() {
+  ++factorisations_;
+  if (!linear_->factorise())
     throw Error(std::string("the quasi-static system is singular: ") + Linear::singular);
 }
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "domain.hpp"
+#include "quasi_static.hpp"
 #include "reactions.hpp"
 #include "run_outputs.hpp"
 #include "saturated_mixture.hpp"
@@ -120,6 +121,10 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.steady_transport_steps = steady_transport_steps_;
   summary.newton_iterations = newton_iterations_;
   summary.halved_steps = halved_steps_;
+  if (quasi_static_) {
+    summary.factorisations = quasi_static_->factorisations();
+    summary.gmres_iterations = quasi_static_->gmres_iterations();
+  }
   if (species_) summary.ledger = mass_ledger();
   summary.interrupted = interrupted;
   summary.exchanged_values = domain_->exec.exchanged_values() - exchanged_before;

@@ -39,6 +39,11 @@ ParameterSchema time_schema() {
       "Quasi-static only: where points have no stiffness (a cohesionless layer separated by seepage: heave, "
       "fluidisation), a stiffness holding their nodes to their place at the start of the step, this fraction of "
       "the skeleton's; such a layer creeps from step to step instead of the step failing (0: none)");
+  s.boolean("reuse_factors").fallback(true).doc(
+      "Quasi-static only, on one process: the Newton iterations after a step's first solve their linear system "
+      "by GMRES preconditioned by the factors of the step's last factorised matrix, and factorise only where "
+      "GMRES does not converge in 30 iterations to 1e-6 (the same equilibria, much less work where the tangent "
+      "changes); false: every iteration factorises its own matrix");
   s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
       "Courant factor of the automatic time step");
   s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
@@ -61,7 +66,7 @@ void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
   const bool quasi_static = t.has("integration") && t.string("integration") == "quasi_static";
   const char* qs_keys[] = {"max_dt", "growth", "eroded_fraction_tolerance", "transport_courant",
                            "steady_transport_tolerance", "newton_tolerance",
-                           "max_iterations", "creep"};
+                           "max_iterations", "creep", "reuse_factors"};
   if (!quasi_static) {
     for (const char* key : qs_keys)
       if (r.root["time"].contains(key))
@@ -85,6 +90,7 @@ void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
   if (t.has("newton_tolerance")) q.newton_tolerance = t.number("newton_tolerance");
   if (t.has("max_iterations")) q.max_iterations = static_cast<int>(t.integer("max_iterations"));
   if (t.has("creep")) q.creep = t.number("creep");
+  if (t.has("reuse_factors")) q.reuse_factors = t.boolean("reuse_factors");
   // What only dynamics has would be silently ignored: refused instead.
   for (const char* key : {"cfl", "mass_scaling", "dt_above_stable"})
     if (r.root["time"].contains(key))

@@ -89,6 +89,7 @@ struct QuasiStaticControls {
   double newton_tolerance = 1e-8;        // relative residual of the equilibrium
   int max_iterations = 25;               // per step, before the step is halved
   double creep = 1e-4;                   // regularising stiffness, a fraction of the skeleton's
+  bool reuse_factors = true;             // later Newton iterations: GMRES with an earlier iteration's factors
 };
 
 struct Scene {
