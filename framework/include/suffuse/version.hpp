@@ -5,8 +5,8 @@
 
 namespace suffuse {
 
-inline constexpr int abi_major = 11;
+inline constexpr int abi_major = 12;
 inline constexpr int abi_minor = 0;
-inline constexpr const char* framework_version = "0.11.0";
+inline constexpr const char* framework_version = "0.12.0";
 
 }  // namespace suffuse
