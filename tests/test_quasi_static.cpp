@@ -467,17 +467,7 @@ namespace {
 // the field's largest (measured: 1.2e-12), with fewer than half as many
 // factorisations.
 TEST(QuasiStatic, ReusedFactorsReachTheEquilibriaOfFactorisedOnes) {
-  auto j = read_json(source_dir() / "share/scenes/levee_suffusion.json");
-  j["outputs"] = nlohmann::json::array();
-  j.erase("damping");
-  j["grid"]["cell_size"] = {0.2, 0.2};
-  j["grid"]["cells"] = {40, 14};
-  j["time"] = {{"end", 4.0},
-               {"integration", "quasi_static"},
-               {"dt", 0.05},
-               {"max_dt", 0.5},
-               {"eroded_fraction_tolerance", 5e-4}};
-  j["materials"]["gap_graded_foundation"]["integration"] = "substeps";
+  const auto j = suffuse::test::coarse_quasi_static_levee(4.0);
   suffuse::Registry registry;
   auto factorised = j;
   factorised["time"]["reuse_factors"] = false;

@@ -379,17 +379,7 @@ TEST(Suffosion, LeveeCrestSettlesAfterOnset) {
 // against 3.9% at 10 s); that run then stops, finding no equilibrium
 // (docs/time-integration.md, The levee).
 TEST(Suffosion, QuasiStaticLeveeErodesUnderItsToe) {
-  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/levee_suffusion.json");
-  j["outputs"] = nlohmann::json::array();
-  j.erase("damping");
-  j["grid"]["cell_size"] = {0.2, 0.2};
-  j["grid"]["cells"] = {40, 14};
-  j["time"] = {{"end", 12.0},
-               {"integration", "quasi_static"},
-               {"dt", 0.05},
-               {"max_dt", 0.5},
-               {"eroded_fraction_tolerance", 5e-4}};
-  j["materials"]["gap_graded_foundation"]["integration"] = "substeps";
+  const auto j = suffuse::test::coarse_quasi_static_levee(12.0);
   suffuse::Registry registry;
   const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);

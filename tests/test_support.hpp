@@ -166,4 +166,23 @@ inline std::string element_csv(const nlohmann::json& j) {
   return out.str();
 }
 
+// share/scenes/levee_suffusion.json at 20 cm cells, quasi-static to `end`
+// seconds as levee_suffusion_quasi_static.json runs it (no damping, steps
+// of 0.05 to 0.5 s, eroded_fraction_tolerance 5e-4, the foundation's
+// erosion-induced strain in substeps), without outputs.
+inline nlohmann::json coarse_quasi_static_levee(double end) {
+  auto j = read_json(source_dir() / "share/scenes/levee_suffusion.json");
+  j["outputs"] = nlohmann::json::array();
+  j.erase("damping");
+  j["grid"]["cell_size"] = {0.2, 0.2};
+  j["grid"]["cells"] = {40, 14};
+  j["time"] = {{"end", end},
+               {"integration", "quasi_static"},
+               {"dt", 0.05},
+               {"max_dt", 0.5},
+               {"eroded_fraction_tolerance", 5e-4}};
+  j["materials"]["gap_graded_foundation"]["integration"] = "substeps";
+  return j;
+}
+
 }  // namespace suffuse::test
