@@ -475,7 +475,7 @@ TEST(QuasiStatic, ReusedFactorsReachTheEquilibriaOfFactorisedOnes) {
   suffuse::Simulation reusing(reusing_scene, registry), every(factorised_scene, registry);
   const suffuse::RunSummary a = reusing.run({}), b = every.run({});
   ASSERT_EQ(a.steps, b.steps);
-  EXPECT_EQ(b.factorisations, b.newton_iterations) << "no halved attempts: one factorisation per iteration";
+  EXPECT_GE(b.factorisations, b.newton_iterations) << "one factorisation per iteration (failed attempts' too)";
   EXPECT_EQ(b.gmres_iterations, 0u);
   EXPECT_GT(a.gmres_iterations, 0u);
   EXPECT_LT(2 * a.factorisations, a.newton_iterations);

@@ -1,6 +1,6 @@
 // The matrix of a quasi-static Newton iteration: the phases' tangents and the
 // u-p coupling accumulated in blocks per node pair, then one sparse matrix,
-// scaled and factorised.
+// scaled (QuasiStatic::newton factorises it or reuses earlier factors).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -23,7 +23,8 @@ template <int dim>
 constexpr int strained_count = dim == 2 ? 3 : 6;
 
 // Engineering strain of the Voigt component r from the displacement of a
-// node along axis i, g its shape function's gradient: B[r][i].
+// node along axis i, g its shape function's gradient (dim components): B[r][i].
+// r must be one of strained_components<dim>: in 2D the others would read g[2].
 template <int dim>
 inline double strain_of(int r, int i, const double* g) {
   constexpr int first[6] = {0, 1, 2, 1, 0, 0}, second[6] = {0, 1, 2, 2, 2, 1};
@@ -236,14 +237,19 @@ void QuasiStatic::assemble(double dt) {
           if (col < 0) continue;
           double v = B[i * w + j];
           if (i == j && I == J && i < dim && !distributed) v += creep_[I * dim + i];
-          if (in_place)
-            values[L.value_at[entry++]] = v;
-          else
+          if (in_place) {
+            if (entry < L.value_at.size()) values[L.value_at[entry]] = v;
+            ++entry;  // more than the step's first assembly had: a defect, reported below
+          } else
             t.emplace_back(static_cast<int>(row), static_cast<int>(col), v);
         }
       }
     }
   }
+  // The pattern is the step's (prepare_blocks): entries that changed within
+  // a step would be a defect of this code, not of the scene.
+  if (in_place && entry != L.value_at.size())
+    throw Error("internal error: the quasi-static matrix changed its pattern within a step; please report the scene");
   if (distributed) {  // each process adds its points' blocks, and the first the creep term
     if (d_.comm.root())
       for (std::size_t k = 0; k < u_dof_.size(); ++k)
