@@ -499,10 +499,13 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
       std::cout << "  exchanged: " << std::setprecision(3)
                 << 8.0 * static_cast<double>(s.exchanged_values) / static_cast<double>(s.steps) / 1e6
                 << " MB received per step by the first process\n";
-    if (scene.integration == suffuse::TimeIntegration::quasi_static)
+    if (scene.integration == suffuse::TimeIntegration::quasi_static) {
       std::cout << "  equilibrium: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps; "
-                << s.halved_steps << " attempts halved; " << s.factorisations << " factorisations, "
-                << s.gmres_iterations << " GMRES iterations\n";
+                << s.halved_steps << " attempts halved";
+      if (sim.processes() == 1)  // on many, PETSc solves
+        std::cout << "; " << s.factorisations << " factorisations, " << s.gmres_iterations << " GMRES iterations";
+      std::cout << "\n";
+    }
     if (s.transport_substeps > 0)
       std::cout << "  transport: " << s.transport_substeps << " substeps; " << s.steady_transport_steps << " of "
                 << s.steps << " steps ended by one implicit step once the transport was steady\n";
