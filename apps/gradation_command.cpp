@@ -12,7 +12,7 @@
 #include <suffuse/error.hpp>
 #include <suffuse/gradation.hpp>
 
-#include "gradation_figure.hpp"
+#include "figures_module.hpp"
 #include "subcommand_options.hpp"
 
 namespace suffuse::gradation_command {
@@ -110,7 +110,7 @@ int run(int argc, char** argv) {
                                      std::to_string(files.size()));
   const Gradation g = read_gradation_file(files[0]);
   const InternalStability s = assess_internal_stability(g);
-  if (vm.count("png")) gradation_figure::write_png(g, s, vm["png"].as<std::string>());
+  if (vm.count("png")) figures::write_gradation_png(g, s, vm["png"].as<std::string>());
   if (vm.count("json")) {
     std::cout << to_json(g, s).dump(2) << "\n";
     return 0;

@@ -50,8 +50,9 @@ std::vector<Frame> read_pvd(const fs::path& pvd, int part = -1) {
   return frames;
 }
 
-int run(const std::string& args, const fs::path& log) {
-  const std::string command = std::string(SUFFUSE_EXECUTABLE) + " " + args + " > " + log.string() + " 2>&1";
+int run(const std::string& args, const fs::path& log, const std::string& environment = "") {
+  const std::string command =
+      "env " + environment + std::string(SUFFUSE_EXECUTABLE) + " " + args + " > " + log.string() + " 2>&1";
   return WEXITSTATUS(std::system(command.c_str()));
 }
 
@@ -204,6 +205,24 @@ TEST(EndToEnd, CommandsForPluginsAndHelp) {
   EXPECT_EQ(run("--help", out / "help.txt"), 0);
   EXPECT_NE(slurp(out / "help.txt").find("suffuse run SCENE.json"), std::string::npos);
   EXPECT_EQ(run("frobnicate", out / "unknown.txt"), 2);
+}
+
+// PETSc (about 100 libraries with MUMPS, HYPRE, Trilinos, HDF5) and VTK's
+// rendering and OpenGL are loaded only by what needs them (the modules of
+// distributed_system.hpp and figures_module.hpp): linked into the core or
+// the program, they cost every command 50 MB and a tenth of a second.
+TEST(EndToEnd, ARunLoadsNeitherPetscNorTheRenderer) {
+  const fs::path out = fresh_dir("libraries");
+  // glibc's loader lists each library it opens ("file=libname ...").
+  ASSERT_EQ(run("run " + std::string(SUFFUSE_SOURCE_DIR) + "/share/scenes/elastic_bar.json --quiet --output " +
+                    (out / "run").string(),
+                out / "run.txt", "LD_DEBUG=files "),
+            0);
+  const std::string opened = slurp(out / "run.txt");
+  ASSERT_NE(opened.find("file=libsuffuse_core.so"), std::string::npos) << "no LD_DEBUG listing: " << opened;
+  EXPECT_EQ(opened.find("file=libpetsc"), std::string::npos);
+  EXPECT_EQ(opened.find("file=libvtkRendering"), std::string::npos);
+  EXPECT_EQ(opened.find("file=libGL"), std::string::npos);
 }
 
 // A saturated run says which liquid bulk modulus it uses, in the log and in

@@ -115,6 +115,16 @@ TEST(Install, TemplateLawBuildsAgainstTheInstalledPackageAndRuns) {
   EXPECT_NEAR(column("skeleton_fines") / (rho_s * F * volume), 1.0, 1e-12);
   EXPECT_LT(column("fines_imbalance"), 1e-12);
 
+  // The installed program draws through its figures module (found beside
+  // the installed plugins, as the core finds them).
+  const fs::path png = inst.root / "fines.png";
+  ASSERT_EQ(sh(inst.program().string() + " plot --png " + png.string() + " --x time --y skeleton_fines " +
+                   (law / "out/first_order_box.ledger.csv").string(),
+               inst.root / "plot.log"),
+            0)
+      << slurp(inst.root / "plot.log");
+  EXPECT_GT(fs::file_size(png), 1000u);
+
   // suffuse plugins lists it with its library; describe prints its parameters.
   const std::string with_law = "SUFFUSE_PLUGIN_PATH=" + (law / "build").string() + " ";
   ASSERT_EQ(sh(with_law + inst.program().string() + " plugins", inst.root / "plugins.log"), 0);

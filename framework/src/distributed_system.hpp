@@ -5,6 +5,12 @@
 // processes. One process keeps Eigen (quasi_static_linear.hpp), so serial
 // runs and builds without PETSc are as before.
 //
+// PETSc lives in a module of its own, libsuffuse_petsc.so next to the
+// bundled plugins' directory (petsc_system.cpp), loaded by the first
+// system a run makes: PETSc and what it links (MUMPS, ScaLAPACK, HYPRE,
+// Trilinos, HDF5; about 100 libraries and 25 MB resident) cost a run that
+// never solves through it nothing, neither start-up time nor memory.
+//
 // Rows are split in contiguous ranges (rows()); every process may add to any
 // entry, and the sums are PETSc's (MatSetValues with ADD_VALUES). The
 // right-hand side is passed whole, the same on every process, and the whole
@@ -38,43 +44,36 @@ bool built_with_petsc();
 class DistributedSystem {
  public:
   using Entry = Eigen::Triplet<double>;
-  // `name` for messages; `prefix` that of its PETSc options.
-  DistributedSystem(const Communicator& comm, std::string name, std::string prefix);
-  ~DistributedSystem();
-  DistributedSystem(const DistributedSystem&) = delete;
-  DistributedSystem& operator=(const DistributedSystem&) = delete;
+  virtual ~DistributedSystem() = default;
 
   // A new matrix of `size` equations (its pattern new), and the rows this
   // process holds, [first, last).
-  void start(std::size_t size);
-  std::pair<std::size_t, std::size_t> rows() const { return rows_; }
+  virtual void start(std::size_t size) = 0;
+  virtual std::pair<std::size_t, std::size_t> rows() const = 0;
   // The same pattern's entries anew (zeroed): the symbolic factorisation is kept.
-  void restart();
+  virtual void restart() = 0;
   // Adds entries (any rows); `per_row` bounds the entries of a row, for the
   // preallocation (more are allowed, at a cost).
-  void add(std::span<const Entry> entries, std::size_t per_row);
+  virtual void add(std::span<const Entry> entries, std::size_t per_row) = 0;
   // Ends the assembly. With `scaled`, scales rows and columns symmetrically
   // by 1 / sqrt(|diagonal|) (1 where it is zero), as the serial solve does:
   // its blocks differ by many orders of magnitude.
-  void finish(bool scaled);
+  virtual void finish(bool scaled) = 0;
   // The scaling of every equation, on every process (1 if not scaled).
-  const std::vector<double>& scale() const { return scale_; }
+  virtual const std::vector<double>& scale() const = 0;
   // The displacements are equations [0, split), the pressures [split, size):
   // the fields of a fieldsplit preconditioner, if the options choose one.
-  void set_fields(std::size_t split) { split_ = split; }
+  virtual void set_fields(std::size_t split) = 0;
   // Solves the (unscaled) system for `rhs`, whole on every process; returns
   // the whole solution on every process, or throws with PETSc's reason.
-  void solve(std::span<const double> rhs, std::vector<double>& x);
-
- private:
-  struct Petsc;  // PETSc's objects (distributed_system.cpp)
-  const Communicator& comm_;
-  std::string name_, prefix_;
-  std::unique_ptr<Petsc> petsc_;
-  std::pair<std::size_t, std::size_t> rows_{0, 0};
-  std::size_t size_ = 0, split_ = 0;
-  std::vector<double> scale_;
+  virtual void solve(std::span<const double> rhs, std::vector<double>& x) = 0;
 };
+
+// A system of PETSc's, from the module (loaded on the first call). `name` for
+// messages; `prefix` that of its PETSc options. Throws suffuse::Error in a
+// build without PETSc, or if the module cannot be loaded (naming its path).
+std::unique_ptr<DistributedSystem> make_distributed_system(const Communicator& comm, std::string name,
+                                                           std::string prefix);
 
 // Ends PETSc if a system started it (before MPI ends: ParallelProcesses).
 void finalize_distributed_systems();

@@ -27,7 +27,7 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
     : scene_(scene), d_(domain), materials_(materials), mixture_(mixture), bcs_(bcs),
       apply_loads_(std::move(apply_loads)), linear_(std::make_unique<Linear>()) {
   if (d_.comm.parallel())
-    linear_->distributed = std::make_unique<DistributedSystem>(d_.comm, "the quasi-static step's solve", "suffuse_qs_");
+    linear_->distributed = make_distributed_system(d_.comm, "the quasi-static step's solve", "suffuse_qs_");
   const std::size_t nn = d_.grid.node_count();
   const int dim = d_.dim();
   probe_.resize(nn, dim, mixture_ != nullptr);

@@ -101,7 +101,7 @@ void SpeciesTransport::implicit_stage(double dt) {
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> solver;
     if (d_.comm.parallel()) {
       if (!implicit_system_)
-        implicit_system_ = std::make_unique<DistributedSystem>(d_.comm, "transport: the backward-Euler step",
+        implicit_system_ = make_distributed_system(d_.comm, "transport: the backward-Euler step",
                                                                "suffuse_transport_");
       DistributedSystem& system = *implicit_system_;
       system.start(nn);

@@ -1,0 +1,12 @@
+// The figures module's entry points (figures_module.hpp).
+#include "figures_entry_points.hpp"
+
+#include "gradation_figure.hpp"
+#include "plot_command.hpp"
+
+extern "C" int suffuse_figures_plot(int argc, char** argv) { return suffuse::plot::plot_command(argc, argv); }
+
+extern "C" void suffuse_figures_gradation_png(const suffuse::Gradation& g, const suffuse::InternalStability& s,
+                                              const std::filesystem::path& file) {
+  suffuse::gradation_figure::write_png(g, s, file);
+}
