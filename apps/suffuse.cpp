@@ -500,8 +500,7 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
     if (scene.integration == suffuse::TimeIntegration::quasi_static) {
       std::cout << "  equilibrium: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps; "
                 << s.halved_steps << " attempts halved";
-      if (sim.processes() == 1)  // on many, PETSc solves
-        std::cout << "; " << s.factorisations << " factorisations, " << s.gmres_iterations << " GMRES iterations";
+      std::cout << "; " << s.factorisations << " factorisations, " << s.gmres_iterations << " GMRES iterations";
       std::cout << "\n";
     }
     if (s.transport_substeps > 0)

@@ -67,6 +67,12 @@ class DistributedSystem {
   // Solves the (unscaled) system for `rhs`, whole on every process; returns
   // the whole solution on every process, or throws with PETSc's reason.
   virtual void solve(std::span<const double> rhs, std::vector<double>& x) = 0;
+  // The same by GMRES, preconditioned by the preconditioner of the pattern's
+  // last solve() (its factors), as the serial solve reuses a step's factors
+  // (quasi_static_linear.hpp): false, and x untouched, where there are none
+  // or GMRES does not reach the serial solve's tolerances. Adds GMRES's
+  // iterations to `iterations`.
+  virtual bool solve_reusing_factors(std::span<const double> rhs, std::vector<double>& x, int& iterations) = 0;
 };
 
 // A system of PETSc's, from the module (loaded on the first call). `name` for

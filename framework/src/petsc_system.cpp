@@ -57,18 +57,32 @@ class PetscSystem final : public DistributedSystem {
   const std::vector<double>& scale() const override { return scale_; }
   void set_fields(std::size_t split) override { split_ = split; }
   void solve(std::span<const double> rhs, std::vector<double>& x) override;
+  bool solve_reusing_factors(std::span<const double> rhs, std::vector<double>& x, int& iterations) override;
 
  private:
+  // The right-hand side, scaled, into p.rhs; the solution p.x, unscaled,
+  // whole into x.
+  void set_rhs(std::span<const double> rhs);
+  void gather_solution(std::vector<double>& x);
+  // The reused factors' preconditioner (PCSHELL): (S0/S) P0 (S0/S), with P0
+  // the solver's preconditioner as last set up and S0 its matrix's scaling.
+  static PetscErrorCode apply_reused(PC shell, Vec in, Vec out);
+
   struct Petsc {  // PETSc's objects
     Mat matrix = nullptr;
     KSP ksp = nullptr;
+    // GMRES on the reused factors, and the scaling of their matrix over
+    // that of the current one (S0/S), a work vector.
+    KSP reuse = nullptr;
     Vec rhs = nullptr, x = nullptr, whole = nullptr, diagonal = nullptr;
+    Vec factor_diagonal = nullptr, ratio = nullptr, work = nullptr, residual = nullptr;
     VecScatter to_all = nullptr;
     IS fields[2] = {nullptr, nullptr};
     void clear() {
       if (matrix) MatDestroy(&matrix);
       if (ksp) KSPDestroy(&ksp);
-      for (Vec* v : {&rhs, &x, &whole, &diagonal})
+      if (reuse) KSPDestroy(&reuse);
+      for (Vec* v : {&rhs, &x, &whole, &diagonal, &factor_diagonal, &ratio, &work, &residual})
         if (*v) VecDestroy(v);
       if (to_all) VecScatterDestroy(&to_all);
       for (IS& f : fields)
@@ -81,6 +95,7 @@ class PetscSystem final : public DistributedSystem {
   std::pair<std::size_t, std::size_t> rows_{0, 0};
   std::size_t size_ = 0, split_ = 0;
   std::vector<double> scale_;
+  bool has_factors_ = false;  // the solver's preconditioner was set up on this pattern
 };
 
 PetscSystem::~PetscSystem() {
@@ -96,6 +111,7 @@ void PetscSystem::start(std::size_t size) {
     throw Error(name_ + ": " + std::to_string(size) + " equations, more than this PETSc build indexes (32-bit)");
   Petsc& p = petsc_;
   p.clear();
+  has_factors_ = false;
   size_ = size;
   scale_.clear();
   if (size == 0) return;  // nothing to solve (every unknown prescribed): PETSc is not asked
@@ -106,7 +122,10 @@ void PetscSystem::start(std::size_t size) {
   check(MatSetSizes(p.matrix, local, local, n, n), name_, "MatSetSizes");
   check(MatSetType(p.matrix, MATAIJ), name_, "MatSetType");
   check(MatCreateVecs(p.matrix, &p.x, &p.rhs), name_, "MatCreateVecs");
-  check(VecDuplicate(p.x, &p.diagonal), name_, "VecDuplicate");
+  for (Vec* v : {&p.diagonal, &p.factor_diagonal, &p.ratio, &p.work, &p.residual})
+    check(VecDuplicate(p.x, v), name_, "VecDuplicate");
+  check(VecSet(p.diagonal, 1.0), name_, "VecSet");
+  has_factors_ = false;
   check(VecScatterCreateToAll(p.x, &p.to_all, &p.whole), name_, "VecScatterCreateToAll");
   scale_.assign(size, 1.0);
 }
@@ -165,6 +184,7 @@ void PetscSystem::finish(bool scaled) {
     check(VecRestoreArrayRead(p.whole, &all), name_, "VecRestoreArrayRead");
   } else {
     std::fill(scale_.begin(), scale_.end(), 1.0);
+    check(VecSet(p.diagonal, 1.0), name_, "VecSet");
   }
   if (!p.ksp) {  // a new pattern: a new solver (its fields and symbolic factorisation)
     check(KSPCreate(PETSC_COMM_WORLD, &p.ksp), name_, "KSPCreate");
@@ -193,14 +213,33 @@ void PetscSystem::finish(bool scaled) {
   }
 }
 
+void PetscSystem::set_rhs(std::span<const double> rhs) {
+  PetscScalar* b = nullptr;
+  check(VecGetArray(petsc_.rhs, &b), name_, "VecGetArray");
+  for (std::size_t i = rows_.first; i < rows_.second; ++i) b[i - rows_.first] = scale_[i] * rhs[i];
+  check(VecRestoreArray(petsc_.rhs, &b), name_, "VecRestoreArray");
+}
+
+void PetscSystem::gather_solution(std::vector<double>& x) {
+  Petsc& p = petsc_;
+  check(VecScatterBegin(p.to_all, p.x, p.whole, INSERT_VALUES, SCATTER_FORWARD), name_, "VecScatterBegin");
+  check(VecScatterEnd(p.to_all, p.x, p.whole, INSERT_VALUES, SCATTER_FORWARD), name_, "VecScatterEnd");
+  const PetscScalar* all = nullptr;
+  check(VecGetArrayRead(p.whole, &all), name_, "VecGetArrayRead");
+  x.resize(size_);
+  for (std::size_t i = 0; i < size_; ++i) x[i] = scale_[i] * all[i];
+  check(VecRestoreArrayRead(p.whole, &all), name_, "VecRestoreArrayRead");
+}
+
 void PetscSystem::solve(std::span<const double> rhs, std::vector<double>& x) {
   x.resize(size_);
   if (size_ == 0) return;
   Petsc& p = petsc_;
-  PetscScalar* b = nullptr;
-  check(VecGetArray(p.rhs, &b), name_, "VecGetArray");
-  for (std::size_t i = rows_.first; i < rows_.second; ++i) b[i - rows_.first] = scale_[i] * rhs[i];
-  check(VecRestoreArray(p.rhs, &b), name_, "VecRestoreArray");
+  set_rhs(rhs);
+  PC pc = nullptr;
+  check(KSPGetPC(p.ksp, &pc), name_, "KSPGetPC");
+  check(PCSetReusePreconditioner(pc, PETSC_FALSE), name_, "PCSetReusePreconditioner");  // factorise anew
+  has_factors_ = false;
   check(KSPSolve(p.ksp, p.rhs, p.x), name_, "KSPSolve");
   KSPConvergedReason reason;
   check(KSPGetConvergedReason(p.ksp, &reason), name_, "KSPGetConvergedReason");
@@ -210,13 +249,68 @@ void PetscSystem::solve(std::span<const double> rhs, std::vector<double>& x) {
     throw Error(name_ + ": PETSc's solver did not converge (" + (text ? text : std::to_string(reason)) +
                 "; its options have the prefix -" + prefix_ + ")");
   }
-  check(VecScatterBegin(p.to_all, p.x, p.whole, INSERT_VALUES, SCATTER_FORWARD), name_, "VecScatterBegin");
-  check(VecScatterEnd(p.to_all, p.x, p.whole, INSERT_VALUES, SCATTER_FORWARD), name_, "VecScatterEnd");
-  const PetscScalar* all = nullptr;
-  check(VecGetArrayRead(p.whole, &all), name_, "VecGetArrayRead");
-  x.resize(size_);
-  for (std::size_t i = 0; i < size_; ++i) x[i] = scale_[i] * all[i];
-  check(VecRestoreArrayRead(p.whole, &all), name_, "VecRestoreArrayRead");
+  check(VecCopy(p.diagonal, p.factor_diagonal), name_, "VecCopy");
+  has_factors_ = true;
+  gather_solution(x);
+}
+
+PetscErrorCode PetscSystem::apply_reused(PC shell, Vec in, Vec out) {
+  void* context = nullptr;
+  PetscCall(PCShellGetContext(shell, &context));
+  Petsc& p = static_cast<PetscSystem*>(context)->petsc_;
+  PC factors = nullptr;
+  PetscCall(KSPGetPC(p.ksp, &factors));
+  PetscCall(VecPointwiseMult(p.work, p.ratio, in));
+  PetscCall(PCApply(factors, p.work, out));
+  PetscCall(VecPointwiseMult(out, p.ratio, out));
+  return 0;
+}
+
+// The serial solve's counterpart (quasi_static_linear.hpp,
+// solve_reusing_factors): GMRES to a relative 1e-6 in at most 30 iterations,
+// preconditioned by the factors of the step's last factorised matrix, and
+// refused where the true residual is above 1e-5 of the right-hand side. The
+// solver's preconditioner (MUMPS's LU, or whatever the options chose) is
+// applied as it was last set up: PCSetReusePreconditioner keeps PETSc from
+// setting it up again for the matrix it now holds.
+bool PetscSystem::solve_reusing_factors(std::span<const double> rhs, std::vector<double>& x, int& iterations) {
+  if (size_ == 0 || !has_factors_) return false;
+  Petsc& p = petsc_;
+  if (!p.reuse) {
+    check(KSPCreate(PETSC_COMM_WORLD, &p.reuse), name_, "KSPCreate");
+    check(KSPSetType(p.reuse, KSPGMRES), name_, "KSPSetType");
+    check(KSPGMRESSetRestart(p.reuse, 30), name_, "KSPGMRESSetRestart");
+    check(KSPSetTolerances(p.reuse, 1e-6, 0.0, PETSC_DEFAULT, 30), name_, "KSPSetTolerances");
+    PC shell = nullptr;
+    check(KSPGetPC(p.reuse, &shell), name_, "KSPGetPC");
+    check(PCSetType(shell, PCSHELL), name_, "PCSetType");
+    check(PCShellSetContext(shell, this), name_, "PCShellSetContext");
+    check(PCShellSetApply(shell, &PetscSystem::apply_reused), name_, "PCShellSetApply");
+  }
+  check(KSPSetOperators(p.reuse, p.matrix, p.matrix), name_, "KSPSetOperators");
+  check(VecPointwiseDivide(p.ratio, p.factor_diagonal, p.diagonal), name_, "VecPointwiseDivide");
+  PC factors = nullptr;
+  check(KSPGetPC(p.ksp, &factors), name_, "KSPGetPC");
+  check(PCSetReusePreconditioner(factors, PETSC_TRUE), name_, "PCSetReusePreconditioner");
+  set_rhs(rhs);
+  const PetscErrorCode solved = KSPSolve(p.reuse, p.rhs, p.x);
+  check(PCSetReusePreconditioner(factors, PETSC_FALSE), name_, "PCSetReusePreconditioner");
+  check(solved, name_, "KSPSolve");
+  PetscInt its = 0;
+  KSPConvergedReason reason;
+  check(KSPGetIterationNumber(p.reuse, &its), name_, "KSPGetIterationNumber");
+  check(KSPGetConvergedReason(p.reuse, &reason), name_, "KSPGetConvergedReason");
+  iterations += static_cast<int>(its);
+  if (reason <= 0) return false;
+  // GMRES measured the preconditioned residual: the true one is checked.
+  PetscReal b_norm = 0, r_norm = 0;
+  check(MatMult(p.matrix, p.x, p.residual), name_, "MatMult");
+  check(VecAYPX(p.residual, -1.0, p.rhs), name_, "VecAYPX");
+  check(VecNorm(p.rhs, NORM_2, &b_norm), name_, "VecNorm");
+  check(VecNorm(p.residual, NORM_2, &r_norm), name_, "VecNorm");
+  if (!(r_norm <= 1e-5 * b_norm)) return false;
+  gather_solution(x);
+  return true;
 }
 
 }  // namespace

@@ -435,12 +435,13 @@ bool QuasiStatic::newton(double dt, int& iterations) {
     // precondition GMRES (quasi_static_linear.hpp); factorised if it does
     // not converge with them.
     std::optional<Eigen::VectorXd> reused;
-    if (iteration > 0 && L.has_factors && control.reuse_factors) {
+    if (iteration > 0 && (L.has_factors || L.distributed) && control.reuse_factors) {
       int its = 0;
       reused = L.solve_reusing_factors(rhs, its);
       gmres_iterations_ += static_cast<std::size_t>(its);
     }
     if (!reused && !L.distributed) factorise_or_throw();
+    if (!reused && L.distributed) ++factorisations_;  // PETSc's solve sets its preconditioner up anew
     const Eigen::VectorXd delta = reused ? std::move(*reused) : L.solve(rhs);
     // Backtracking: far from equilibrium a full Newton step on a perfectly
     // plastic skeleton can overshoot onto the wrong side of many returns;

@@ -123,6 +123,12 @@ struct QuasiStatic::Linear {
   // that of the factors, (S A S)^-1 ~ (S A0 S)^-1 = (S0/S) (S0 A0 S0)^-1 (S0/S).
   // Counts GMRES's iterations; nothing if it did not reach the tolerance.
   std::optional<Eigen::VectorXd> solve_reusing_factors(const Eigen::VectorXd& rhs, int& iterations) const {
+    if (distributed) {  // PETSc's counterpart, with the same tolerances
+      std::vector<double> x;
+      if (!distributed->solve_reusing_factors({rhs.data(), static_cast<std::size_t>(rhs.size())}, x, iterations))
+        return std::nullopt;
+      return Eigen::Map<const Eigen::VectorXd>(x.data(), rhs.size());
+    }
     struct Preconditioner {
       const Linear& L;
       Eigen::VectorXd ratio;

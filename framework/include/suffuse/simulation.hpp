@@ -93,8 +93,9 @@ struct RunSummary {
   // Quasi-static runs: the Newton iterations of the steps that converged,
   // and the attempts that did not (each halved its step).
   std::size_t newton_iterations = 0, halved_steps = 0;
-  // Quasi-static runs on one process: the factorisations of their systems,
-  // and the GMRES iterations of the iterations that reused them.
+  // Quasi-static runs: the factorisations of their systems (on many
+  // processes, PETSc's solves that set their preconditioner up anew), and
+  // the GMRES iterations of the iterations that reused them.
   std::size_t factorisations = 0, gmres_iterations = 0;
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
   // Runs on many processes: the values this process received from the

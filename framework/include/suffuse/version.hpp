@@ -7,6 +7,6 @@ namespace suffuse {
 
 inline constexpr int abi_major = 12;
 inline constexpr int abi_minor = 0;
-inline constexpr const char* framework_version = "0.12.0";
+inline constexpr const char* framework_version = "0.12.1";
 
 }  // namespace suffuse
