@@ -717,9 +717,10 @@ void expect_the_erosion_passes_of_their_scalar_form() {
     }
     bool mixed = false, moved = false;
     const SpeciesPoints pt = got.species();
-    const ErosionInputs in{got.q.data(),  got.K.data(),        got.rho_w.data(), got.magnitude.data(),
-                           got.gradient.data(), got.fc.data(), got.c.data(),     got.share.data(),
-                           got.carrier_c.data()};
+    // The block's scratch (magnitude, share, carrier_c) is indexed from `begin`.
+    const ErosionInputs in{got.q.data(),  got.K.data(),        got.rho_w.data(), got.magnitude.data() + begin,
+                           got.gradient.data(), got.fc.data(), got.c.data(),     got.share.data() + begin,
+                           got.carrier_c.data() + begin};
     const ErosionState st{got.fc.data(), got.fer.data(), got.dn.data(), got.dfc.data(), got.dfer.data()};
     const PoreLiquidPoints liquid{got.volume.data(), got.n.data(),    got.rho_s.data(),   got.rho_w.data(),
                                   got.suspended.data(), got.liquid.data(), got.c.data(), got.density.data(),

@@ -108,7 +108,9 @@ struct ErosionInputs {
 };
 
 // Fills ErosionInputs at points [begin, end) (pt.carrying_liquid must be
-// set: a run with fines tracks it). Returns whether any of them holds clean
+// set: a run with fines tracks it). flux_magnitude, carrier_share and
+// carrier_concentration are a block's scratch, not point fields: point p's
+// value is at p - begin. Returns whether any of the points holds clean
 // water beside the suspension (a carrier share below 1).
 template <int D, int L>
 [[gnu::always_inline]] inline bool erosion_inputs(std::size_t begin, std::size_t end, const SpeciesPoints& pt,
@@ -121,7 +123,7 @@ template <int D, int L>
       q2 += q * q;
     }
     const T magnitude = lane_sqrt(q2);
-    store_at(in.flux_magnitude + p, magnitude);
+    store_at(in.flux_magnitude + (p - begin), magnitude);
     store_at(in.hydraulic_gradient + p, magnitude / load_at<T>(in.conductivity + p));  // Darcy: q = K i
     store_at(in.fines_content + p, load_at<T>(pt.skeleton_fines + p) / load_at<T>(pt.solid_mass + p));
     const T fines = load_at<T>(pt.suspended_fines + p), liquid = load_at<T>(pt.liquid_mass + p);
@@ -129,8 +131,8 @@ template <int D, int L>
     store_at(in.concentration + p, suspended_concentration(fines, liquid, rho_s, rho_w));
     const CarrierState<T> carrier =
         carrier_state(fines, load_at<T>(pt.carrying_liquid + p), liquid, rho_s, rho_w);
-    store_at(in.carrier_share + p, carrier.share);
-    store_at(in.carrier_concentration + p, carrier.concentration);
+    store_at(in.carrier_share + (p - begin), carrier.share);
+    store_at(in.carrier_concentration + (p - begin), carrier.concentration);
     mixed = any_lane(carrier.share < splat<T>(1.0)) || mixed;
   });
   return mixed;

@@ -102,8 +102,11 @@ void SpeciesTransport::start_ledger() {
   initial_solid_ = start.solid;
   initial_liquid_ = start.liquid;
   initial_fines_ = start.skeleton_fines + start.suspended_fines;
-  for (auto* v : {&flux_magnitude_, &carrier_share_, &carrier_concentration_, &clean_concentration_, &clean_rate_})
-    v->assign(d_.points.size(), 0.0);
+  erosion_scratch_.resize(static_cast<std::size_t>(d_.exec.threads()));
+  for (ErosionScratch& s : erosion_scratch_)
+    for (auto* v : {&s.flux_magnitude, &s.carrier_share, &s.carrier_concentration, &s.clean_concentration,
+                    &s.clean_rate})
+      v->assign(erosion_block, 0.0);
 }
 
 void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture& mixture,
@@ -160,42 +163,51 @@ bool SpeciesTransport::erode(double dt) {
     const ErosionLaw* law = erosion_[body.material].get();
     if (!body.saturated || !law) continue;
     d_.exec.for_chunks(body.range.size(), [&](int chunk, std::size_t b, std::size_t e) {
-      const std::size_t begin = body.range.begin + b, end = body.range.begin + e, count = e - b;
-      const ErosionInputs in{pts.data(m_.darcy_flux),          pts.data(m_.conductivity),
-                             pts.data(m_.water_density),       flux_magnitude_.data(),
-                             pts.data(f.hydraulic_gradient),   pts.data(f.fines_content),
-                             pts.data(f.concentration),        carrier_share_.data(),
-                             carrier_concentration_.data()};
-      bool mixed = false;  // some points hold clean water beside the suspension
-      d_.exec.vector_kernel(dim, [&]<int D, int L>() { mixed = erosion_inputs<D, L>(begin, end, pt, in); });
-      auto span = [&](FieldId id) { return std::span<const double>(pts.data(id) + begin, count); };
-      auto scratch = [&](std::vector<double>& v) { return std::span<const double>(v.data() + begin, count); };
-      double* rate = pts.data(f.erosion_rate);
-      // The law sees the liquid that carries the fines, at its own c: a point
-      // where the transport has mixed suspension and clean water at a front
-      // erodes as its two parts would, share x rate(c_carrying) + (1 - share)
-      // x rate(0), not at the mixture's c (docs/erosion.md, Mesh convergence).
-      law->rate(ErosionBatch{span(m_.porosity), span(f.fines_content), span(f.ultimate_fines_content),
-                             scratch(carrier_concentration_), scratch(flux_magnitude_), span(f.hydraulic_gradient),
-                             std::span<double>(rate + begin, count)});
-      if (mixed) {
+      ErosionScratch& scratch = erosion_scratch_[static_cast<std::size_t>(chunk)];
+      for (std::size_t first = body.range.begin + b; first < body.range.begin + e; first += erosion_block) {
+        const std::size_t begin = first, end = std::min(body.range.begin + e, first + erosion_block),
+                          count = end - begin;
+        const ErosionInputs in{pts.data(m_.darcy_flux),          pts.data(m_.conductivity),
+                               pts.data(m_.water_density),       scratch.flux_magnitude.data(),
+                               pts.data(f.hydraulic_gradient),   pts.data(f.fines_content),
+                               pts.data(f.concentration),        scratch.carrier_share.data(),
+                               scratch.carrier_concentration.data()};
+        bool mixed = false;  // some points hold clean water beside the suspension
+        d_.exec.vector_kernel(dim, [&]<int D, int L>() { mixed = erosion_inputs<D, L>(begin, end, pt, in); });
+        auto span = [&](FieldId id) { return std::span<const double>(pts.data(id) + begin, count); };
+        auto block = [&](const std::vector<double>& v) { return std::span<const double>(v.data(), count); };
+        double* rate = pts.data(f.erosion_rate);
+        // The law sees the liquid that carries the fines, at its own c: a
+        // point where the transport has mixed suspension and clean water at a
+        // front erodes as its two parts would, share x rate(c_carrying) +
+        // (1 - share) x rate(0), not at the mixture's c (docs/erosion.md,
+        // Mesh convergence).
         law->rate(ErosionBatch{span(m_.porosity), span(f.fines_content), span(f.ultimate_fines_content),
-                               scratch(clean_concentration_), scratch(flux_magnitude_), span(f.hydraulic_gradient),
-                               std::span<double>(clean_rate_.data() + begin, count)});
-        for (std::size_t p = begin; p < end; ++p)
-          if (carrier_share_[p] < 1)
-            rate[p] = carrier_share_[p] * rate[p] + (1 - carrier_share_[p]) * clean_rate_[p];
+                               block(scratch.carrier_concentration), block(scratch.flux_magnitude),
+                               span(f.hydraulic_gradient), std::span<double>(rate + begin, count)});
+        const double* share = scratch.carrier_share.data();
+        const double* clean_rate = scratch.clean_rate.data();
+        if (mixed) {
+          law->rate(ErosionBatch{span(m_.porosity), span(f.fines_content), span(f.ultimate_fines_content),
+                                 block(scratch.clean_concentration), block(scratch.flux_magnitude),
+                                 span(f.hydraulic_gradient), std::span<double>(scratch.clean_rate.data(), count)});
+          for (std::size_t p = begin; p < end; ++p)
+            if (share[p - begin] < 1)
+              rate[p] = share[p - begin] * rate[p] + (1 - share[p - begin]) * clean_rate[p - begin];
+        }
+        const ErosionState st{pts.data(f.fines_content), pts.data(f.eroded_fraction),
+                              pts.data(m_.porosity_increment), pts.data(f.fines_content_increment),
+                              pts.data(f.eroded_fraction_increment)};
+        const double* ultimate = pts.data(f.ultimate_fines_content);
+        d_.exec.vector_kernel(dim, [&]<int, int L>() {
+          moved[chunk] = erode_points<L>(begin, end, dt, pt, ultimate, rate, st) || moved[chunk];
+        });
+        // Clean water that took up fines (a law that erodes at c = 0) carries them now.
+        if (mixed)
+          for (std::size_t p = begin; p < end; ++p)
+            if (share[p - begin] < 1 && clean_rate[p - begin] > 0 && rate[p] > 0)
+              pt.carrying_liquid[p] = pt.liquid_mass[p];
       }
-      const ErosionState st{pts.data(f.fines_content), pts.data(f.eroded_fraction), pts.data(m_.porosity_increment),
-                            pts.data(f.fines_content_increment), pts.data(f.eroded_fraction_increment)};
-      const double* ultimate = pts.data(f.ultimate_fines_content);
-      d_.exec.vector_kernel(dim, [&]<int, int L>() {
-        moved[chunk] = erode_points<L>(begin, end, dt, pt, ultimate, rate, st) || moved[chunk];
-      });
-      // Clean water that took up fines (a law that erodes at c = 0) carries them now.
-      if (mixed)
-        for (std::size_t p = begin; p < end; ++p)
-          if (carrier_share_[p] < 1 && clean_rate_[p] > 0 && rate[p] > 0) pt.carrying_liquid[p] = pt.liquid_mass[p];
     });
   }
   return std::find(moved.begin(), moved.end(), 1) != moved.end();

@@ -122,10 +122,15 @@ class SpeciesTransport {
   std::vector<std::string> material_names_;
   std::vector<std::unique_ptr<ErosionLaw>> erosion_;  // per material, may be null
   std::optional<FinesFields> fines_;                  // runs that track fines
-  // Per point, scratch of the erosion stage: |q|; the carrying liquid's share
-  // of the pores, its concentration, and 0 (the clean water's); the rate in
-  // the clean water.
-  std::vector<double> flux_magnitude_, carrier_share_, carrier_concentration_, clean_concentration_, clean_rate_;
+  // Scratch of the erosion stage, per thread, for a block of erosion_block
+  // points at a time (40 bytes per point were held for every point): |q|;
+  // the carrying liquid's share of the pores, its concentration, and 0 (the
+  // clean water's); the rate in the clean water.
+  static constexpr std::size_t erosion_block = 1024;
+  struct ErosionScratch {
+    std::vector<double> flux_magnitude, carrier_share, carrier_concentration, clean_concentration, clean_rate;
+  };
+  std::vector<ErosionScratch> erosion_scratch_;
   std::vector<char> eroded_in_chunk_;  // per thread's chunk: some point eroded
   std::vector<double> step_fines_content_, step_eroded_fraction_;  // at the start of a quasi-static step
 
