@@ -3,8 +3,11 @@
 
 #include <boost/dll/shared_library.hpp>
 #include <exception>
+#include <memory>
+#include <string>
 #include <suffuse/error.hpp>
 #include <suffuse/plugin_loader.hpp>
+#include <suffuse/version.hpp>
 
 #include "figures_entry_points.hpp"
 
@@ -19,7 +22,13 @@ const boost::dll::shared_library& module() {
   static const boost::dll::shared_library* library = [] {
     const auto path = PluginLoader::bundled_plugin_directory().parent_path() / "libsuffuse_figures.so";
     try {
-      return new boost::dll::shared_library(path.string(), boost::dll::load_mode::rtld_now);
+      auto loaded = std::make_unique<boost::dll::shared_library>(path.string(), boost::dll::load_mode::rtld_now);
+      const std::string version = loaded->get<ModuleVersion>("suffuse_figures_module_version")();
+      if (version != framework_version)
+        throw Error("it is suffuse " + version + "'s, this is suffuse " + framework_version);
+      for (const char* entry : {"suffuse_figures_plot", "suffuse_figures_gradation_png"})
+        if (!loaded->has(entry)) throw Error(std::string("it has no ") + entry);
+      return loaded.release();
     } catch (const std::exception& e) {
       throw Error("cannot load the figures module " + path.string() + " (" + e.what() + "); reinstall suffuse");
     }

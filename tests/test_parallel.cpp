@@ -342,10 +342,11 @@ void expect_close_to_serial(const std::string& name, const json& scene, const st
   }
 }
 
-// The serial run factorises every Newton iteration's matrix, as the runs on
-// many processes do (PETSc): with /time/reuse_factors its later iterations
+// Every Newton iteration factorises its own matrix, on one process and on
+// many (reuse_factors false): with reused factors the later iterations
 // solve by GMRES to 1e-6, which moves the iterates within the Newton
-// tolerance, not by round-off, and a failure's last iterate with them.
+// tolerance, not by round-off, and a failure's last iterate with them
+// (QuasiStaticLeveeReusesFactorsAsTheSerialRunDoes compares those).
 json quasi_static(json scene, double dt) {
   scene["time"]["integration"] = "quasi_static";
   scene["time"]["dt"] = dt;
@@ -448,8 +449,10 @@ std::pair<long, long> factorisations_and_gmres(const std::string& log) {
 // iterations in 110 steps. The equilibria are the serial run's within 1e-9
 // of each field's largest value (the bound of the serial run against its
 // own factorised iterations, QuasiStatic.ReusedFactorsReachTheEquilibriaOf
-// FactorisedOnes), and the solves take the serial run's path: as many
-// factorisations, GMRES iterations within 5%.
+// FactorisedOnes), and the solves take the serial run's path: the same
+// factorisations within 2 (measured: the same 110; a solve near GMRES's
+// limits may fall on either side of it with PETSc's and Eigen's round-off),
+// GMRES iterations within 5% (measured: the same 540).
 TEST(Parallel, QuasiStaticLeveeReusesFactorsAsTheSerialRunDoes) {
   const json scene = suffuse::test::coarse_quasi_static_levee(4.0);
   ASSERT_TRUE(scene["time"].value("reuse_factors", true));
@@ -458,7 +461,9 @@ TEST(Parallel, QuasiStaticLeveeReusesFactorsAsTheSerialRunDoes) {
   const auto serial = factorisations_and_gmres(slurp(dir / "serial" / "log"));
   const auto parallel = factorisations_and_gmres(slurp(dir / "np2" / "log"));
   ASSERT_GT(serial.second, 0) << slurp(dir / "serial" / "log");
-  EXPECT_EQ(parallel.first, serial.first) << slurp(dir / "np2" / "log");
+  EXPECT_NEAR(static_cast<double>(parallel.first), static_cast<double>(serial.first), 2.0)
+      << slurp(dir / "np2" / "log");
+  EXPECT_LT(2 * parallel.first, 288) << "most Newton iterations reuse factors";
   EXPECT_NEAR(static_cast<double>(parallel.second), static_cast<double>(serial.second), 0.05 * serial.second);
 }
 #else

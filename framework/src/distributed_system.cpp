@@ -1,6 +1,7 @@
 #include "distributed_system.hpp"
 
 #include "suffuse/error.hpp"
+#include "suffuse/version.hpp"
 
 #ifdef SUFFUSE_PETSC
 #include <boost/dll/runtime_symbol_info.hpp>
@@ -9,15 +10,12 @@
 #include <filesystem>
 #include <mutex>
 #include <optional>
+#include <utility>
 #endif
 
 namespace suffuse::detail {
 
 #ifdef SUFFUSE_PETSC
-
-// What the module exports (petsc_system.cpp).
-using MakeSystem = DistributedSystem*(const Communicator&, const std::string&, const std::string&);
-using FinalizePetsc = void();
 
 namespace {
 
@@ -27,6 +25,8 @@ namespace {
 struct PetscModule {
   std::mutex mutex;
   std::optional<boost::dll::shared_library> library;
+  MakePetscSystem* make = nullptr;
+  FinalizePetsc* finalize = nullptr;
 };
 PetscModule& petsc_module() {
   static PetscModule* module = new PetscModule;
@@ -51,20 +51,26 @@ std::unique_ptr<DistributedSystem> make_distributed_system(const Communicator& c
   if (!module.library) {
     const auto path = petsc_module_path();
     try {
-      module.library.emplace(path.string(), boost::dll::load_mode::rtld_now);
+      boost::dll::shared_library library(path.string(), boost::dll::load_mode::rtld_now);
+      const std::string version = library.get<PetscModuleVersion>("suffuse_petsc_module_version")();
+      if (version != framework_version)
+        throw Error("it is suffuse " + version + "'s, this is suffuse " + framework_version);
+      module.make = &library.get<MakePetscSystem>("suffuse_make_petsc_system");
+      module.finalize = &library.get<FinalizePetsc>("suffuse_finalize_petsc");
+      module.library.emplace(std::move(library));
     } catch (const std::exception& e) {
+      module.make = nullptr, module.finalize = nullptr;
       throw Error(name + ": cannot load PETSc's module " + path.string() + " (" + e.what() +
                   "); reinstall suffuse, or run the scene on one process");
     }
   }
-  return std::unique_ptr<DistributedSystem>(
-      module.library->get<MakeSystem>("suffuse_make_petsc_system")(comm, name, prefix));
+  return std::unique_ptr<DistributedSystem>(module.make(comm, name, prefix));
 }
 
 void finalize_distributed_systems() {
   PetscModule& module = petsc_module();
   std::lock_guard lock(module.mutex);
-  if (module.library) module.library->get<FinalizePetsc>("suffuse_finalize_petsc")();
+  if (module.finalize) module.finalize();
 }
 
 #else  // no PETSc: many processes run the explicit scheme only

@@ -75,6 +75,13 @@ class DistributedSystem {
   virtual bool solve_reusing_factors(std::span<const double> rhs, std::vector<double>& x, int& iterations) = 0;
 };
 
+// The PETSc module's entry points, found by name (petsc_system.cpp asserts
+// its definitions have these types). A module of another build is refused:
+// DistributedSystem's layout is this build's.
+using MakePetscSystem = DistributedSystem*(const Communicator&, const std::string& name, const std::string& prefix);
+using FinalizePetsc = void();
+using PetscModuleVersion = const char*();
+
 // A system of PETSc's, from the module (loaded on the first call). `name` for
 // messages; `prefix` that of its PETSc options. Throws suffuse::Error in a
 // build without PETSc, or if the module cannot be loaded (naming its path).

@@ -9,8 +9,11 @@
 #include <cmath>
 #include <exception>
 
+#include <type_traits>
+
 #include "distributed_system.hpp"
 #include "suffuse/error.hpp"
+#include "suffuse/version.hpp"
 
 namespace suffuse::detail {
 namespace {
@@ -272,13 +275,21 @@ PetscErrorCode PetscSystem::apply_reused(PC shell, Vec in, Vec out) {
 // refused where the true residual is above 1e-5 of the right-hand side. The
 // solver's preconditioner (MUMPS's LU, or whatever the options chose) is
 // applied as it was last set up: PCSetReusePreconditioner keeps PETSc from
-// setting it up again for the matrix it now holds.
+// setting it up again for the matrix it now holds. A factorisation (LU,
+// Cholesky) is then one fixed operator; other preconditioners may read the
+// current matrix or iterate when applied (SOR, multigrid smoothers, a
+// fieldsplit with Krylov sub-solves), which the flexible GMRES allows.
 bool PetscSystem::solve_reusing_factors(std::span<const double> rhs, std::vector<double>& x, int& iterations) {
   if (size_ == 0 || !has_factors_) return false;
   Petsc& p = petsc_;
+  PC factors = nullptr;
+  check(KSPGetPC(p.ksp, &factors), name_, "KSPGetPC");
   if (!p.reuse) {
+    PetscBool factorisation = PETSC_FALSE;
+    check(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(factors), &factorisation, PCLU, PCCHOLESKY, ""),
+          name_, "PCType");
     check(KSPCreate(PETSC_COMM_WORLD, &p.reuse), name_, "KSPCreate");
-    check(KSPSetType(p.reuse, KSPGMRES), name_, "KSPSetType");
+    check(KSPSetType(p.reuse, factorisation ? KSPGMRES : KSPFGMRES), name_, "KSPSetType");
     check(KSPGMRESSetRestart(p.reuse, 30), name_, "KSPGMRESSetRestart");
     check(KSPSetTolerances(p.reuse, 1e-6, 0.0, PETSC_DEFAULT, 30), name_, "KSPSetTolerances");
     PC shell = nullptr;
@@ -289,8 +300,6 @@ bool PetscSystem::solve_reusing_factors(std::span<const double> rhs, std::vector
   }
   check(KSPSetOperators(p.reuse, p.matrix, p.matrix), name_, "KSPSetOperators");
   check(VecPointwiseDivide(p.ratio, p.factor_diagonal, p.diagonal), name_, "VecPointwiseDivide");
-  PC factors = nullptr;
-  check(KSPGetPC(p.ksp, &factors), name_, "KSPGetPC");
   check(PCSetReusePreconditioner(factors, PETSC_TRUE), name_, "PCSetReusePreconditioner");
   set_rhs(rhs);
   const PetscErrorCode solved = KSPSolve(p.reuse, p.rhs, p.x);
@@ -329,3 +338,9 @@ extern "C" void suffuse_finalize_petsc() {
   PetscFinalized(&finished);
   if (started && !finished) PetscFinalize();
 }
+
+extern "C" const char* suffuse_petsc_module_version() { return suffuse::framework_version; }
+
+static_assert(std::is_same_v<decltype(suffuse_make_petsc_system), suffuse::detail::MakePetscSystem>);
+static_assert(std::is_same_v<decltype(suffuse_finalize_petsc), suffuse::detail::FinalizePetsc>);
+static_assert(std::is_same_v<decltype(suffuse_petsc_module_version), suffuse::detail::PetscModuleVersion>);

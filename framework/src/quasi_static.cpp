@@ -441,7 +441,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
       gmres_iterations_ += static_cast<std::size_t>(its);
     }
     if (!reused && !L.distributed) factorise_or_throw();
-    if (!reused && L.distributed) ++factorisations_;  // PETSc's solve sets its preconditioner up anew
+    if (!reused && L.distributed && equations_ > 0) ++factorisations_;  // PETSc sets its preconditioner up anew
     const Eigen::VectorXd delta = reused ? std::move(*reused) : L.solve(rhs);
     // Backtracking: far from equilibrium a full Newton step on a perfectly
     // plastic skeleton can overshoot onto the wrong side of many returns;

@@ -40,11 +40,12 @@ ParameterSchema time_schema() {
       "fluidisation), a stiffness holding their nodes to their place at the start of the step, this fraction of "
       "the skeleton's; such a layer creeps from step to step instead of the step failing (0: none)");
   s.boolean("reuse_factors").fallback(true).doc(
-      "Quasi-static only, on one process: the Newton iterations after a step's first solve their linear system "
+      "Quasi-static only: the Newton iterations after a step's first solve their linear system "
       "by GMRES preconditioned by the factors of the step's last factorised matrix, and factorise only where "
       "GMRES does not converge in 30 iterations to 1e-6 or leaves a true residual above 1e-5 of the right-hand "
       "side (the same equilibria within the Newton tolerance, much less work where the tangent changes); false: "
-      "every iteration factorises its own matrix");
+      "every iteration factorises its own matrix. On many processes the same through PETSc: GMRES preconditioned "
+      "by the preconditioner its solver last set up");
   s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
       "Courant factor of the automatic time step");
   s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
