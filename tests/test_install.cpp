@@ -124,6 +124,17 @@ TEST(Install, TemplateLawBuildsAgainstTheInstalledPackageAndRuns) {
             0)
       << slurp(inst.root / "plot.log");
   EXPECT_GT(fs::file_size(png), 1000u);
+  // Without its module, suffuse plot says what is missing (and nothing else
+  // of the program needs it).
+  fs::rename(inst.prefix / "lib/suffuse/libsuffuse_figures.so", inst.root / "libsuffuse_figures.so");
+  EXPECT_EQ(sh(inst.program().string() + " plot --png " + png.string() + " --x time --y skeleton_fines " +
+                   (law / "out/first_order_box.ledger.csv").string(),
+               inst.root / "plot_without_module.log"),
+            1);
+  EXPECT_NE(slurp(inst.root / "plot_without_module.log").find("cannot load the figures module"), std::string::npos)
+      << slurp(inst.root / "plot_without_module.log");
+  EXPECT_EQ(sh(inst.program().string() + " --version", inst.root / "version.log"), 0);
+  fs::rename(inst.root / "libsuffuse_figures.so", inst.prefix / "lib/suffuse/libsuffuse_figures.so");
 
   // suffuse plugins lists it with its library; describe prints its parameters.
   const std::string with_law = "SUFFUSE_PLUGIN_PATH=" + (law / "build").string() + " ";
