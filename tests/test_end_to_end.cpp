@@ -207,7 +207,7 @@ TEST(EndToEnd, CommandsForPluginsAndHelp) {
   EXPECT_EQ(run("frobnicate", out / "unknown.txt"), 2);
 }
 
-// PETSc (about 100 libraries with MUMPS, HYPRE, Trilinos, HDF5) and VTK's
+// PETSc (about 90 libraries with MUMPS, HYPRE, Trilinos, HDF5) and VTK's
 // rendering and OpenGL are loaded only by what needs them (the modules of
 // distributed_system.hpp and figures_module.hpp): linked into the core or
 // the program, they cost every command 50 MB and a tenth of a second.

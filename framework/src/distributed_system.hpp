@@ -8,7 +8,7 @@
 // PETSc lives in a module of its own, libsuffuse_petsc.so next to the
 // bundled plugins' directory (petsc_system.cpp), loaded by the first
 // system a run makes: PETSc and what it links (MUMPS, ScaLAPACK, HYPRE,
-// Trilinos, HDF5; about 100 libraries and 25 MB resident) cost a run that
+// Trilinos, HDF5; about 90 libraries and 25 MB resident) cost a run that
 // never solves through it nothing, neither start-up time nor memory.
 //
 // Rows are split in contiguous ranges (rows()); every process may add to any
