@@ -497,6 +497,9 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
       std::cout << "  exchanged: " << std::setprecision(3)
                 << 8.0 * static_cast<double>(s.exchanged_values) / static_cast<double>(s.steps) / 1e6
                 << " MB received per step by the first process\n";
+    if (s.point_sorts > 0)
+      std::cout << "  point order: the points mixed and were sorted again into the grid's order " << s.point_sorts
+                << (s.point_sorts == 1 ? " time" : " times") << " (/sort_points_at_spread)\n";
     if (scene.integration == suffuse::TimeIntegration::quasi_static) {
       std::cout << "  equilibrium: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps; "
                 << s.halved_steps << " attempts halved";

@@ -305,6 +305,52 @@ Checkpoint read_checkpoint(const fs::path& file) {
   return c;
 }
 
+// Points sorted again when they mix (docs/parallel.md, Points that mix):
+// the Mohr-Coulomb column collapse at 2.5 cm cells, 4,608 points in 3
+// scatter chunks, to 0.6 s. The spreading column mixes its points, which
+// are sorted once, at the default threshold; 1,266 of them then move to the
+// other process on 2 processes. Checkpoints and the followed point's probe
+// are the serial run's, byte for byte, each id once in the checkpoint. The
+// surcharged column sorted at every step: bc/traction's top points,
+// renumbered each time, load it as in the serial run.
+TEST(Parallel, SortedPointsMoveBetweenProcessesAndEqualSerial) {
+  json scene = scene_file("column_collapse_mc");
+  scene["grid"]["cell_size"] = {0.025, 0.025};
+  scene["grid"]["cells"] = {100, 36};
+  scene["bodies"][0]["points_per_cell"] = 3;
+  scene["time"]["end"] = 0.6;
+  scene["outputs"] = {{{"type", "writer/csv_probe"}, {"name", "toe"}, {"fields", {"displacement", "stress"}},
+                       {"at", {0.39, 0.02}}, {"interval", 0.02}}};
+  expect_equal_to_serial("sorted_collapse", scene, {2, 3});
+  EXPECT_GE(expect_every_file_equal("sorted_collapse", {2, 3}), 2u);
+  const fs::path dir = fs::temp_directory_path() / "suffuse_parallel_sorted_collapse";
+  EXPECT_NE(slurp(dir / "np2" / "log").find("sorted again into the grid's order 1 time"), std::string::npos)
+      << slurp(dir / "np2" / "log");
+  const Checkpoint c = read_checkpoint(dir / "np2" / "sorted_collapse.checkpoint");
+  std::size_t moved = 0;
+  std::vector<int> seen(4608, 0);
+  for (const auto& [field, values] : c.values) {
+    if (field != "id") continue;
+    ASSERT_EQ(values.size(), seen.size());
+    // On 2 processes the first holds chunk 0 (points 0 to 2,047), the second the rest.
+    for (std::size_t p = 0; p < values.size(); ++p) {
+      moved += (p < 2048) != (values[p] < 2048);
+      if (values[p] >= 0 && values[p] < 4608) ++seen[static_cast<std::size_t>(values[p])];
+    }
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), 4608) << "every id once";
+  EXPECT_GT(moved, 1000u) << "points that moved to the other process";
+
+  json surcharged = scene_file("bench_column");
+  surcharged["time"]["end"] = 0.005;
+  surcharged["sort_points_at_spread"] = 0.5;
+  surcharged["boundary_conditions"].push_back({{"type", "bc/traction"},
+                                               {"box_min", {0.0, 10.0}},
+                                               {"box_max", {9.75, 10.0}},
+                                               {"traction", {0.0, -20000.0}}});
+  expect_equal_to_serial("surcharged_column_sorted", surcharged, {2, 3});
+}
+
 // Runs `scene` serially and on each process count; each run's checkpoint
 // must hold the serial one's steps and time, and each of its fields (every
 // point field, the ledger's and reactions' sums) within `tolerance` of that

@@ -20,6 +20,7 @@
 
 #include "domain.hpp"
 #include "fnv1a.hpp"
+#include "point_order.hpp"
 #include "reactions.hpp"
 #include "species_transport.hpp"
 #include "suffuse/error.hpp"
@@ -75,6 +76,7 @@ void Simulation::save_checkpoint(const std::filesystem::path& file, const std::v
   h["dt"] = clock.nominal;
   h["clock_origin"] = clock.origin;
   h["steps_since_origin"] = clock.since_origin;
+  h["point_order_reference"] = point_order_->reference();  // when the points are sorted next
   h["writer_frames"] = frames;
   for (FieldId f = 0; f < pts.field_count(); ++f)
     h["fields"].push_back({{"name", pts.info(f).name}, {"components", pts.components(f)}});
@@ -183,6 +185,7 @@ std::vector<std::size_t> Simulation::load_checkpoint(const std::filesystem::path
   if (species_) species_->restore_state(ledger);
   else if (!ledger.empty()) throw Error(where + "it holds a ledger, this run is dry");
   reactions_->restore_state(reactions);
+  point_order_->restore_reference(h.at("point_order_reference").get<double>());
   clock_.restore({h.at("dt").get<double>(), h.at("time").get<double>(), h.at("clock_origin").get<double>(),
                   h.at("steps").get<std::size_t>(), h.at("steps_since_origin").get<std::size_t>()});
   return h.at("writer_frames").get<std::vector<std::size_t>>();

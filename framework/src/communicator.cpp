@@ -75,6 +75,23 @@ void Communicator::sum(std::span<double> values) const {
   }
 }
 
+void Communicator::sum_below(std::span<double> values) const {
+  if (!parallel()) {
+    std::fill(values.begin(), values.end(), 0.0);
+    return;
+  }
+  constexpr std::size_t slice = std::size_t{1} << 26;  // MPI counts are ints
+  std::vector<double> mine;
+  for (std::size_t first = 0; first < values.size(); first += slice) {
+    const std::size_t n = std::min(slice, values.size() - first);
+    mine.assign(values.begin() + static_cast<std::ptrdiff_t>(first),
+                values.begin() + static_cast<std::ptrdiff_t>(first + n));
+    MPI_Exscan(mine.data(), values.data() + first, static_cast<int>(n), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    if (root()) std::fill(values.begin() + static_cast<std::ptrdiff_t>(first),
+                          values.begin() + static_cast<std::ptrdiff_t>(first + n), 0.0);  // undefined there
+  }
+}
+
 bool Communicator::any(bool local) const {
   if (!parallel()) return local;
   int mine = local ? 1 : 0, out = 0;
@@ -148,6 +165,7 @@ Communicator::Communicator() = default;
 double Communicator::min(double local) const { return local; }
 double Communicator::max(double local) const { return local; }
 void Communicator::sum(std::span<double>) const {}
+void Communicator::sum_below(std::span<double> values) const { std::fill(values.begin(), values.end(), 0.0); }
 bool Communicator::any(bool local) const { return local; }
 std::vector<std::size_t> Communicator::all_counts(std::size_t mine) const { return {mine}; }
 void Communicator::all_gather(std::span<const double> mine, const std::vector<std::size_t>&,

@@ -29,6 +29,9 @@ class Communicator {
   double min(double local) const;
   double max(double local) const;
   bool any(bool local) const;
+  // Each value summed over the lower-ranked processes (zero on the first):
+  // where a process's share starts in an order by rank (collective).
+  void sum_below(std::span<double> values) const;
   // Element-wise sums of every process's `values`, in place, the same bits
   // on every process (summed on the first, then broadcast: an all-reduce may
   // round differently on different processes, and their decisions must agree).

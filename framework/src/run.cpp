@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "domain.hpp"
+#include "point_order.hpp"
 #include "quasi_static.hpp"
 #include "reactions.hpp"
 #include "run_outputs.hpp"
@@ -121,6 +122,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.steady_transport_steps = steady_transport_steps_;
   summary.newton_iterations = newton_iterations_;
   summary.halved_steps = halved_steps_;
+  summary.point_sorts = point_order_->sorts();
   if (quasi_static_) {
     summary.factorisations = quasi_static_->factorisations();
     summary.gmres_iterations = quasi_static_->gmres_iterations();

@@ -1,4 +1,4 @@
-// The top level of a scene: dimension, gravity, damping, volumetric strain, plugin paths.
+// The top level of a scene: dimension, gravity, damping, volumetric strain, point order, plugin paths.
 #include "scene_reader.hpp"
 
 namespace suffuse::detail {
@@ -31,6 +31,13 @@ ParameterSchema top_level_schema() {
       "volume-weighted mean over the points of its cell, the deviatoric part kept (removes the volumetric locking "
       "of nearly incompressible or isochoric plastic flow, e.g. undrained clay or Tresca, on linear shape "
       "functions; a B-bar method)");
+  s.number("sort_points_at_spread").at_least(0).with_unit("-").fallback(1.5).doc(
+      "Sort the material points again into the grid's order (each body's by cell) when they have mixed: when the "
+      "cells the scatter chunks of consecutive points span, summed, reach this factor of their sum after the last "
+      "sort (or at the start). Keeps the scatters without buffers and, on many processes, each process's nodes a "
+      "narrow slab, points moving between processes (docs/parallel.md). The order of the points in outputs changes "
+      "at each sort; their point field id, their number at the start, does not. 0: never sort (no field id). "
+      "Below 1 (but above 0): sort at every step");
   return s;
 }
 
@@ -45,6 +52,7 @@ void read_top_level(SceneReader& r, Scene& scene) {
   // A value that failed validation is absent: read only what is there.
   if (top.has("description")) scene.description = top.string("description");
   if (top.has("damping")) scene.damping = top.number("damping");
+  if (top.has("sort_points_at_spread")) scene.sort_points_at_spread = top.number("sort_points_at_spread");
   if (top.has("volumetric_strain") && top.string("volumetric_strain") == "cell_average")
     scene.volumetric_strain = VolumetricStrain::cell_average;
   if (r.dim && top.has("gravity")) {

@@ -10,6 +10,7 @@
 #include "geostatic_stress.hpp"
 #include "grid_projection.hpp"
 #include "memory_estimate.hpp"
+#include "point_order.hpp"
 #include "scene_reader.hpp"
 #include "step_guard.hpp"
 #include "materials.hpp"
@@ -87,6 +88,8 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
     momentum_ = dry_.get();
   }
   materials_->add_fields(domain_->points);
+  point_order_ = std::make_unique<detail::PointOrder>(scene.sort_points_at_spread);
+  point_order_->add_field(domain_->points);
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
   std::optional<detail::StepGuard::MixtureIds> mixture_ids;
@@ -95,6 +98,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   grid_projection_ = std::make_unique<detail::GridProjection>(
       mixture_ ? &mixture_->fields() : nullptr, mixture_ ? &mixture_->nodal_darcy_flux() : nullptr);
   create_bodies();
+  point_order_->number_points(domain_->points);
   // Every point still on every process: conditions that load points keep
   // the serial run's point numbers.
   for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
@@ -110,6 +114,18 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   if (!loaded_points_.empty() && loaded_points_.back() >= domain_->points.size())
     throw Error("a boundary condition names point " + std::to_string(loaded_points_.back()) + " among those it loads, of " +
                 std::to_string(domain_->points.size()));
+  // Sorting the points renumbers them: a condition that keeps numbers and
+  // cannot follow is refused now, before anything is written.
+  if (scene.sort_points_at_spread > 0)
+    for (std::size_t b = 0; b < bcs_.size(); ++b) {
+      if (!bcs_[b]->loads_points()) continue;
+      try {
+        const std::vector<std::size_t> same = bcs_[b]->loaded_points();
+        bcs_[b]->renumber_loaded_points(same);
+      } catch (const std::exception& e) {
+        throw Error(scene.boundary_conditions[b].pointer + " (" + scene.boundary_conditions[b].type + "): " + e.what());
+      }
+    }
   domain_->distribute_points();  // on many processes: each keeps its share
   // On many processes, the node layers beyond its points' that each process
   // updates: what the transport's stencils read within a step (twice as far
@@ -246,6 +262,43 @@ void Simulation::apply_loads(NodeState& nodes, double time) {
   }
 }
 
+void Simulation::points_renumbered() {
+  detail::Domain& d = *domain_;
+  const std::vector<std::size_t>& renumbered = point_order_->new_numbers();  // this process's points
+  const std::vector<std::size_t> counts = d.comm.all_counts(renumbered.size());
+  std::vector<double> mine, all;
+  // The loaded points' new numbers, on every process: each process knows
+  // those of the points it held (their old numbers are its range).
+  if (!loaded_points_.empty()) {
+    const std::size_t first = d.first_point(), end = first + renumbered.size();
+    for (std::size_t p : loaded_points_)
+      if (p >= first && p < end) mine.push_back(static_cast<double>(renumbered[p - first]));
+    d.comm.all_gather(mine, d.comm.all_counts(mine.size()), all);  // in rank order: ascending old numbers
+    std::vector<std::size_t> now;
+    for (const auto& bc : bcs_) {
+      if (!bc->loads_points()) continue;
+      std::vector<std::size_t> numbers = bc->loaded_points();
+      for (std::size_t& p : numbers)
+        p = static_cast<std::size_t>(
+            all[static_cast<std::size_t>(std::lower_bound(loaded_points_.begin(), loaded_points_.end(), p) -
+                                         loaded_points_.begin())]);
+      bc->renumber_loaded_points(numbers);
+      now.insert(now.end(), numbers.begin(), numbers.end());
+    }
+    std::sort(now.begin(), now.end());
+    now.erase(std::unique(now.begin(), now.end()), now.end());
+    loaded_points_ = std::move(now);
+  }
+  // The writers, on the process that writes: every point's new number.
+  mine.assign(renumbered.begin(), renumbered.end());
+  d.comm.gather_to_root(mine, counts, all);
+  if (!d.comm.root()) return;
+  const std::vector<std::size_t> new_number(all.begin(), all.end());
+  for (const auto& w : writers_) w->points_renumbered(new_number);
+}
+
+std::size_t Simulation::point_sorts() const { return point_order_->sorts(); }
+
 void Simulation::constrain_velocity(double time) {
   for (const auto& bc : bcs_) bc->constrain_velocity(domain_->grid, domain_->nodes, time);
 }
@@ -257,10 +310,20 @@ void Simulation::constrain_velocity_recording_reactions(double time, double dt) 
 }
 
 void Simulation::step() {
+  timed(Stage::shape, [&] { locate_points(); });  // shape functions at the points (sorted again if they mixed)
   if (quasi_static_)
     step_quasi_static();
   else
     step_explicit();
+}
+
+void Simulation::locate_points() {
+  detail::Domain& d = *domain_;
+  d.locate_points(clock_.steps(), clock_.time());
+  if (!point_order_->sort_if_spread(d)) return;
+  d.locate_points(clock_.steps(), clock_.time());  // in their new order
+  point_order_->take_reference(d);
+  points_renumbered();
 }
 
 // The MUSL step. Every stage is one call; the parts hold what differs
@@ -269,7 +332,6 @@ void Simulation::step_explicit() {
   const double t = clock_.time(), dt = clock_.dt();
   const std::size_t n = clock_.steps();
   detail::Domain& d = *domain_;
-  timed(Stage::shape, [&] { d.locate_points(n, t); });         // shape functions at the points
   timed(Stage::p2g, [&] { momentum_->points_to_grid(); });      // nodal mass, momentum, forces
   timed(Stage::grid, [&] {
     apply_loads(d.nodes, t);
@@ -303,7 +365,6 @@ void Simulation::step_quasi_static() {
   const std::size_t n = clock_.steps();
   detail::Domain& d = *domain_;
   const QuasiStaticControls& control = scene_.quasi_static;
-  timed(Stage::shape, [&] { d.locate_points(n, t); });
   double dt = clock_.dt();
   for (;;) {  // halved until the equilibrium converges
     std::optional<int> iterations;

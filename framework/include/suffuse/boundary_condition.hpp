@@ -2,8 +2,10 @@
 // Boundary conditions act on sets of grid nodes at named stages of the step,
 // and may act through material points (a load carried by a body's surface).
 #include <algorithm>
+#include <span>
 #include <vector>
 
+#include "suffuse/error.hpp"
 #include "suffuse/grid.hpp"
 #include "suffuse/points.hpp"
 
@@ -42,8 +44,9 @@ class BoundaryCondition {
   // The faces this condition opens to the liquid (default: none).
   virtual std::vector<LiquidOpening> liquid_openings() const { return {}; }
   // Once, after the material points are created and before the first step.
-  // Point indices stay valid for the whole run: the core never reorders or
-  // removes points.
+  // The core never removes points, but may sort them again into the grid's
+  // order (/sort_points_at_spread): a condition that keeps point numbers
+  // then gets their new ones (renumber_loaded_points).
   virtual void setup_points(const GridGeometry& grid, const PointSet& points) { (void)grid; (void)points; }
   // Stage "apply_forces", right after apply_forces(grid, nodes, time): add
   // external nodal forces that act through the material points (a load that
@@ -57,11 +60,24 @@ class BoundaryCondition {
   // apply_point_forces the points it reads (gathered each step) on every
   // process: a condition that returns false is not called on many processes.
   virtual bool loads_points() const { return false; }
-  // The points (numbers as setup_points saw them, ascending) whose fields
-  // apply_point_forces reads; asked once, after setup_points. On many
-  // processes only these points' fields are gathered each step (the others
-  // hold stale values); empty, the default: every point's.
+  // The points (numbers as setup_points saw them, or as renumbered since)
+  // whose fields apply_point_forces reads; asked after setup_points and
+  // after each renumbering. On many processes only these points' fields are
+  // gathered each step (the others hold stale values); empty, the default:
+  // every point's (such a condition must not keep point numbers).
   virtual std::vector<std::size_t> loaded_points() const { return {}; }
+  // When the run sorts its points again into the grid's order
+  // (/sort_points_at_spread, docs/parallel.md): the new numbers of the
+  // points loaded_points() named, in its order (on every process). A
+  // condition that keeps point numbers must take them. The default refuses
+  // any renumbering but the identity, which the core tries before the first
+  // step, so a condition that does not follow stops the run before it starts.
+  virtual void renumber_loaded_points(std::span<const std::size_t> new_numbers) {
+    const std::vector<std::size_t> now = loaded_points();
+    if (!std::equal(now.begin(), now.end(), new_numbers.begin(), new_numbers.end()))
+      throw Error("it keeps the numbers of the points it loads and does not follow when the points are sorted "
+                  "again (BoundaryCondition::renumber_loaded_points): set /sort_points_at_spread to 0");
+  }
 };
 
 }  // namespace suffuse

@@ -108,6 +108,7 @@ struct Scene {
   std::array<double, 3> gravity{};
   double damping = 0;  // local non-viscous damping coefficient
   VolumetricStrain volumetric_strain = VolumetricStrain::point;
+  double sort_points_at_spread = 1.5;  // 0: the points keep their order (PointOrder)
   double end_time = 0;
   std::optional<double> dt;  // absent: automatic from the CFL condition (explicit); quasi-static: the first step
   double cfl = 0.5;

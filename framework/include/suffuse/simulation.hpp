@@ -39,6 +39,7 @@ class SpeciesTransport;
 class GridProjection;
 class StepGuard;
 class QuasiStatic;
+class PointOrder;
 }  // namespace detail
 
 // The stages of a step, in order, and the writing of outputs.
@@ -97,6 +98,9 @@ struct RunSummary {
   // processes, PETSc's solves that set their preconditioner up anew), and
   // the GMRES iterations of the iterations that reused them.
   std::size_t factorisations = 0, gmres_iterations = 0;
+  // Times the points were sorted again into the grid's order
+  // (/sort_points_at_spread), points moving between processes.
+  std::size_t point_sorts = 0;
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
   // Runs on many processes: the values this process received from the
   // others in the scatters' exchanges (8 bytes each), over the run.
@@ -179,6 +183,9 @@ class Simulation {
   std::size_t steady_transport_steps() const { return steady_transport_steps_; }
   std::size_t newton_iterations() const { return newton_iterations_; }
   std::size_t halved_steps() const { return halved_steps_; }
+  // Times the points were sorted again into the grid's order (their
+  // numbers then change: /sort_points_at_spread).
+  std::size_t point_sorts() const;
   bool saturated() const { return mixture_ != nullptr; }
   // The liquid of /liquids entry `index` (scene order); saturated runs only.
   const Liquid& liquid(std::size_t index) const;
@@ -203,6 +210,12 @@ class Simulation {
   // every point if one of them does not say (BoundaryCondition::loaded_points).
   std::vector<std::size_t> loaded_points_;
   bool load_every_point_ = false;
+  // Stage "shape": the shape functions at the points, which are first
+  // sorted again into the grid's order if they mixed (/sort_points_at_spread).
+  void locate_points();
+  // After the points were sorted again: the conditions' and the writers'
+  // point numbers follow.
+  void points_renumbered();
   void constrain_velocity(double time);
   // The same, measuring the reactions the scene asks for (the grid update's).
   void constrain_velocity_recording_reactions(double time, double dt);
@@ -227,6 +240,7 @@ class Simulation {
   std::unique_ptr<detail::GridProjection> grid_projection_;  // for writers of grid fields
   std::unique_ptr<detail::StepGuard> guard_;                 // stops a run that blew up
   std::unique_ptr<detail::QuasiStatic> quasi_static_;        // quasi-static runs
+  std::unique_ptr<detail::PointOrder> point_order_;          // sorts the points when they mixed
   SimulationClock clock_{0};
   StageTimes times_;
   std::size_t transport_substeps_ = 0, steady_transport_steps_ = 0, newton_iterations_ = 0, halved_steps_ = 0;

@@ -11,6 +11,7 @@
 // files after the checkpoint's time instead of starting over.
 #include <cstddef>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,11 @@ class Writer {
   // complete and readable, so a run that fails later leaves usable output.
   virtual void write(const OutputFrame& frame) = 0;
   virtual void close() {}
+  // When the run sorts its points again into the grid's order
+  // (/sort_points_at_spread): on the process that writes, new_number[p] is
+  // the new number of the point numbered p until now. A writer that keeps
+  // point numbers between frames (a followed point) takes the new ones.
+  virtual void points_renumbered(std::span<const std::size_t> new_number) { (void)new_number; }
   // Whether write() reads OutputFrame::grid_fields (the core projects them
   // only then).
   virtual bool wants_grid_fields() const { return false; }

@@ -97,6 +97,10 @@ class TractionBC final : public suffuse::BoundaryCondition {
   // A node beyond the grid passes its weight to its neighbour inside.
   bool loads_points() const override { return true; }
   std::vector<std::size_t> loaded_points() const override { return points_; }
+  // Each loaded point keeps its area; only its number changes.
+  void renumber_loaded_points(std::span<const std::size_t> new_numbers) override {
+    points_.assign(new_numbers.begin(), new_numbers.end());
+  }
 
   void apply_point_forces(const suffuse::GridGeometry& grid, const suffuse::PointSet& points, suffuse::NodeState& state,
                           double time) const override {

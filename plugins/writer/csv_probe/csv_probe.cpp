@@ -144,6 +144,10 @@ class CsvProbe final : public suffuse::Writer {
     out_ << '\n';
   }
 
+  void points_renumbered(std::span<const std::size_t> new_number) override {
+    if (followed_) followed_ = new_number[*followed_];
+  }
+
   // The followed point: nearest to `at` in the initial configuration
   // (position - displacement), so a restarted run follows the same one.
   std::size_t followed_point(const suffuse::PointSet& pts) {
