@@ -574,7 +574,7 @@ TEST(EndToEnd, ScenesThatCannotRunAreRefusedWithAnEstimate) {
       << slurp(out / "validate.log");
   auto blowing = big_step;
   blowing["time"]["dt_above_stable"] = true;
-  EXPECT_NE(refused(blowing, "blowing").find("the run blew up at step 5 (t = 0.01 s): material point 2 of body 'bar'"),
+  EXPECT_NE(refused(blowing, "blowing").find("the run blew up at step 5 (t = 0.01 s): material point 2 (id 2) of body 'bar'"),
             std::string::npos)
       << slurp(out / "blowing.log");
   // Liquid forced in at 1000 m/s crosses cells in a step: the transport would no longer conserve its volume.
@@ -613,7 +613,7 @@ TEST(EndToEnd, FailingPluginIsNamedAndOutputsStayReadable) {
                 std::string::npos)
           << log;
     else
-      EXPECT_NE(log.find("the run blew up at step 1 (t = 0.000790569 s): material point 79 of body 'bar' at "
+      EXPECT_NE(log.find("the run blew up at step 1 (t = 0.000790569 s): material point 79 (id 79) of body 'bar' at "
                          "(0.987508, 0.0375), material 'steel_like' (phase/test_failing): stress = nan, not finite"),
                 std::string::npos)
           << log;

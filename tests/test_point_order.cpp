@@ -12,6 +12,9 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <suffuse/boundary_condition.hpp>
+#include <suffuse/error.hpp>
+#include <suffuse/plugin.hpp>
 #include <suffuse/simulation.hpp>
 #include <vector>
 
@@ -237,4 +240,85 @@ TEST(PointOrder, LoadedAndFollowedPointsFollowTheSort) {
   EXPECT_LE(probe_sorting, 10 * std::max(probe_round_off, 1e-15));
   EXPECT_LE(probe_sorting, 1e-3);
   EXPECT_LT(probe.at(probe.rows.size() - 1, "displacement_y"), -1e-5) << "the followed point settles";
+}
+
+namespace {
+
+// A third-party condition that loads points and does not say it follows a
+// renumbering (BoundaryCondition::follows_renumbering).
+class PointLoadThatKeepsNumbers final : public suffuse::BoundaryCondition {
+ public:
+  static suffuse::ParameterSchema schema() { return {}; }
+  explicit PointLoadThatKeepsNumbers(const suffuse::PluginArgs&) {}
+  void setup(const suffuse::GridGeometry&) override {}
+  bool loads_points() const override { return true; }
+  std::vector<std::size_t> loaded_points() const override { return {0, 1}; }
+};
+
+}  // namespace
+
+// Scenes that sort refuse such a condition before the first step, naming it
+// and the setting that turns sorting off; with that setting it runs.
+TEST(PointOrder, AConditionThatDoesNotFollowIsRefusedBeforeTheRun) {
+  json j = collapse(0.001);
+  j["boundary_conditions"].push_back({{"type", "bc/test_keeps_numbers"}});
+  suffuse::Registry registry;
+  registry.add<suffuse::BoundaryCondition, PointLoadThatKeepsNumbers>("bc/test_keeps_numbers", "a test condition");
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  try {
+    suffuse::Simulation sim(scene, registry, 1);
+    FAIL() << "the condition should be refused";
+  } catch (const suffuse::Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("/boundary_conditions/"), std::string::npos) << what;
+    EXPECT_NE(what.find("bc/test_keeps_numbers"), std::string::npos) << what;
+    EXPECT_NE(what.find("set /sort_points_at_spread to 0"), std::string::npos) << what;
+  }
+  j["sort_points_at_spread"] = 0;
+  const suffuse::Scene fixed = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(fixed, registry, 1);
+  sim.step();
+  EXPECT_EQ(sim.steps(), 1u);
+}
+
+// A run restarted from a checkpoint written after a sort: the surcharge of
+// bc/traction (which named its points on the fresh lattice) acts on the
+// same points as in the uninterrupted run. The collapse under a surcharge
+// on the top of the column sorts once, between 0.5 and 0.55 s; restarted
+// from the checkpoint at 0.6 s it does not sort again and ends with the
+// same checkpoint at 0.7 s, byte for byte.
+TEST(PointOrder, ARestartAfterASortLoadsTheSamePoints) {
+  json j = collapse(0.7);
+  j["boundary_conditions"].push_back(
+      {{"type", "bc/traction"}, {"box_min", {0.0, 0.8}}, {"box_max", {0.2, 0.8}}, {"traction", {0.0, -2000.0}}});
+  const fs::path whole_dir = fs::temp_directory_path() / "suffuse_point_order_loaded_whole",
+                 copy_dir = fs::temp_directory_path() / "suffuse_point_order_loaded_restarted";
+  fs::remove_all(whole_dir);
+  fs::remove_all(copy_dir);
+  suffuse::Registry registry;
+  suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  scene.name = "loaded";
+  suffuse::Simulation whole(scene, registry, 1);
+  suffuse::RunOptions options;
+  options.output_dir = whole_dir;
+  options.checkpoint_interval = 0.6;
+  std::size_t sorts_at_copy = 99;
+  options.on_step = [&](const suffuse::Progress&) {
+    if (sorts_at_copy != 99 || !fs::exists(whole_dir / "loaded.checkpoint")) return;
+    fs::copy(whole_dir, copy_dir, fs::copy_options::recursive);
+    sorts_at_copy = whole.point_sorts();
+  };
+  whole.run(options);
+  EXPECT_EQ(sorts_at_copy, 1u) << "the checkpoint at 0.6 s comes after the sort";
+  EXPECT_EQ(whole.point_sorts(), 1u);
+  suffuse::Simulation rest(scene, registry, 1);
+  suffuse::RunOptions resume;
+  resume.output_dir = copy_dir;
+  resume.restart = copy_dir / "loaded.checkpoint";
+  rest.run(resume);
+  EXPECT_EQ(rest.point_sorts(), 0u);
+  EXPECT_EQ(rest.steps(), whole.steps());
+  const std::string a = slurp(whole_dir / "loaded.checkpoint"), b = slurp(copy_dir / "loaded.checkpoint");
+  ASSERT_GT(a.size(), 10000u);
+  EXPECT_TRUE(a == b);
 }

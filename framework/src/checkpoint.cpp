@@ -186,6 +186,7 @@ std::vector<std::size_t> Simulation::load_checkpoint(const std::filesystem::path
   else if (!ledger.empty()) throw Error(where + "it holds a ledger, this run is dry");
   reactions_->restore_state(reactions);
   point_order_->restore_reference(h.at("point_order_reference").get<double>());
+  renumber_loaded_points();  // the checkpoint's points may have been sorted
   clock_.restore({h.at("dt").get<double>(), h.at("time").get<double>(), h.at("clock_origin").get<double>(),
                   h.at("steps").get<std::size_t>(), h.at("steps_since_origin").get<std::size_t>()});
   return h.at("writer_frames").get<std::vector<std::size_t>>();

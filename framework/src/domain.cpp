@@ -154,6 +154,13 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density) {
   return bodies.back();
 }
 
+std::string Domain::point_name(std::size_t p) const {
+  std::string name = "material point " + std::to_string(first_point_ + p);
+  if (const auto id = points.find("id"); id && p < points.size())
+    name += " (id " + std::to_string(static_cast<std::size_t>(points.data(*id)[p])) + ")";
+  return name;
+}
+
 void Domain::locate_points(std::size_t step, double time) {
   const int D = dim();
   const std::size_t n = points.size();
@@ -176,7 +183,7 @@ void Domain::locate_points(std::size_t step, double time) {
       if (p >= b.range.begin && p < b.range.end) body = b.name;
     std::ostringstream pos;
     for (int a = 0; a < D; ++a) pos << (a ? ", " : "") << x[p * D + a];
-    throw Error("material point " + std::to_string(first_point_ + p) + " of body '" + body + "' left the grid at step " +
+    throw Error(point_name(p) + " of body '" + body + "' left the grid at step " +
                 std::to_string(step) + " (t = " + std::to_string(time) + " s): position (" + pos.str() +
                 "); enlarge /grid or check the boundary conditions and the time step");
   }

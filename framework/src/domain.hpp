@@ -82,6 +82,10 @@ class Domain {
   // it loads reads (BoundaryCondition::loaded_points).
   const PointSet& points_at(std::span<const std::size_t> wanted);
 
+  // "material point N" for this process's point p, N its number in the run
+  // (the order of the outputs), with " (id K)" once points may be sorted
+  // again (PointOrder): for messages.
+  std::string point_name(std::size_t p) const;
   // Stage "shape": shape functions at the points' positions. Throws, naming
   // the point and its body, if a point left the grid.
   void locate_points(std::size_t step, double time);

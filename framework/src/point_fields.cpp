@@ -1,5 +1,6 @@
 #include "point_fields.hpp"
 
+#include "point_order.hpp"
 #include "saturated_mixture.hpp"
 #include "species_transport.hpp"
 
@@ -9,6 +10,8 @@ std::vector<ProvidedField> point_fields_of(const Scene& scene, const Registry& r
   std::vector<ProvidedField> fields;
   const PointSet core(scene.dim);
   for (FieldId id = 0; id < core.field_count(); ++id) fields.push_back({core.info(id).name, "the core, always", true});
+  fields.push_back({PointOrder::id_field_info().name, "the core, when /sort_points_at_spread is above 0",
+                    scene.sort_points_at_spread > 0});
   const bool saturated = scene.saturated();
   for (const auto& f : SaturatedMixture::fields_declared())
     fields.push_back({f.info.name, "the saturated mixture, when a body has a \"liquid\"", saturated});

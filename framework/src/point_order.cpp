@@ -42,18 +42,17 @@ void PointOrder::compute_cells(const Domain& d) {
     cells_of<3>(d.grid, x, n, cell_.data());
 }
 
-void PointOrder::add_field(PointSet& points) {
-  if (threshold_ > 0)
-    id_ = points.add_field({"id", FieldKind::Scalar, "-",
-                            "the point's number when the run started, kept when the points are sorted again "
-                            "(/sort_points_at_spread)",
-                            true});
-}
-
-void PointOrder::number_points(PointSet& points) const {
-  if (!id_) return;
+void PointOrder::number_points(PointSet& points) {
+  if (threshold_ <= 0) return;  // never sorted
+  id_ = points.add_field(id_field_info());
   double* id = points.data(*id_);
   for (std::size_t p = 0; p < points.size(); ++p) id[p] = static_cast<double>(p);
+}
+
+FieldInfo PointOrder::id_field_info() {
+  return {"id", FieldKind::Scalar, "-",
+          "the point's number when the run started, kept when the points are sorted again (/sort_points_at_spread)",
+          true};
 }
 
 double PointOrder::spread(const Domain& d) const {

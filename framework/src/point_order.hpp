@@ -28,10 +28,12 @@ class PointOrder {
   explicit PointOrder(double threshold) : threshold_(threshold) {}
 
   // Field "id": each point's number when the run started, which it keeps
-  // through the sorts (for matching points between frames). Registered when
-  // the points may be sorted; number_points() once the bodies are made.
-  void add_field(PointSet& points);
-  void number_points(PointSet& points) const;
+  // through the sorts (for matching points between frames). Once the bodies
+  // are made, before the points are split between processes; added when the
+  // scene may sort (a threshold above 0).
+  void number_points(PointSet& points);
+  static FieldInfo id_field_info();
+  const std::optional<FieldId>& id_field() const { return id_; }
 
   // The sum over the scatter chunks of the nodes each reaches (from the
   // first its points' supports touch to the last), from the step's shape

@@ -200,7 +200,7 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
       bad = porous_update<D, L>(b, e, dt, s.view(), node_darcy_.data(), porous);
     });
     if (bad != e)
-      throw Error("material point " + std::to_string(d_.first_point() + bad) + " was compressed to porosity " +
+      throw Error(d_.point_name(bad) + " was compressed to porosity " +
                   std::to_string(pts.data(f_.porosity)[bad]) + " at step " + std::to_string(step) + " (t = " +
                   std::to_string(time) + " s): its grains cannot be compressed; reduce the time step or check the loads");
   });

@@ -89,7 +89,6 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   }
   materials_->add_fields(domain_->points);
   point_order_ = std::make_unique<detail::PointOrder>(scene.sort_points_at_spread);
-  point_order_->add_field(domain_->points);
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
   std::optional<detail::StepGuard::MixtureIds> mixture_ids;
@@ -114,18 +113,15 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   if (!loaded_points_.empty() && loaded_points_.back() >= domain_->points.size())
     throw Error("a boundary condition names point " + std::to_string(loaded_points_.back()) + " among those it loads, of " +
                 std::to_string(domain_->points.size()));
-  // Sorting the points renumbers them: a condition that keeps numbers and
-  // cannot follow is refused now, before anything is written.
-  if (scene.sort_points_at_spread > 0)
-    for (std::size_t b = 0; b < bcs_.size(); ++b) {
-      if (!bcs_[b]->loads_points()) continue;
-      try {
-        const std::vector<std::size_t> same = bcs_[b]->loaded_points();
-        bcs_[b]->renumber_loaded_points(same);
-      } catch (const std::exception& e) {
-        throw Error(scene.boundary_conditions[b].pointer + " (" + scene.boundary_conditions[b].type + "): " + e.what());
-      }
-    }
+  // Sorting the points renumbers them: a condition that loads points and
+  // does not follow is refused now, before anything is written.
+  for (std::size_t b = 0; b < bcs_.size(); ++b) {
+    loaded_ids_.push_back(bcs_[b]->loads_points() ? bcs_[b]->loaded_points() : std::vector<std::size_t>{});
+    if (scene.sort_points_at_spread > 0 && bcs_[b]->loads_points() && !bcs_[b]->follows_renumbering())
+      throw Error(scene.boundary_conditions[b].pointer + " (" + scene.boundary_conditions[b].type +
+                  "): it loads material points and does not follow when they are sorted again into the grid's "
+                  "order (BoundaryCondition::follows_renumbering); set /sort_points_at_spread to 0");
+  }
   domain_->distribute_points();  // on many processes: each keeps its share
   // On many processes, the node layers beyond its points' that each process
   // updates: what the transport's stencils read within a step (twice as far
@@ -263,38 +259,49 @@ void Simulation::apply_loads(NodeState& nodes, double time) {
 }
 
 void Simulation::points_renumbered() {
+  renumber_loaded_points();
+  // The writers, on the process that writes: every point's new number.
   detail::Domain& d = *domain_;
   const std::vector<std::size_t>& renumbered = point_order_->new_numbers();  // this process's points
-  const std::vector<std::size_t> counts = d.comm.all_counts(renumbered.size());
-  std::vector<double> mine, all;
-  // The loaded points' new numbers, on every process: each process knows
-  // those of the points it held (their old numbers are its range).
-  if (!loaded_points_.empty()) {
-    const std::size_t first = d.first_point(), end = first + renumbered.size();
-    for (std::size_t p : loaded_points_)
-      if (p >= first && p < end) mine.push_back(static_cast<double>(renumbered[p - first]));
-    d.comm.all_gather(mine, d.comm.all_counts(mine.size()), all);  // in rank order: ascending old numbers
-    std::vector<std::size_t> now;
-    for (const auto& bc : bcs_) {
-      if (!bc->loads_points()) continue;
-      std::vector<std::size_t> numbers = bc->loaded_points();
-      for (std::size_t& p : numbers)
-        p = static_cast<std::size_t>(
-            all[static_cast<std::size_t>(std::lower_bound(loaded_points_.begin(), loaded_points_.end(), p) -
-                                         loaded_points_.begin())]);
-      bc->renumber_loaded_points(numbers);
-      now.insert(now.end(), numbers.begin(), numbers.end());
-    }
-    std::sort(now.begin(), now.end());
-    now.erase(std::unique(now.begin(), now.end()), now.end());
-    loaded_points_ = std::move(now);
-  }
-  // The writers, on the process that writes: every point's new number.
-  mine.assign(renumbered.begin(), renumbered.end());
-  d.comm.gather_to_root(mine, counts, all);
+  std::vector<double> mine(renumbered.begin(), renumbered.end()), all;
+  d.comm.gather_to_root(mine, d.comm.all_counts(mine.size()), all);
   if (!d.comm.root()) return;
   const std::vector<std::size_t> new_number(all.begin(), all.end());
   for (const auto& w : writers_) w->points_renumbered(new_number);
+}
+
+void Simulation::renumber_loaded_points() {
+  std::vector<std::size_t> ids;  // every point a condition loads, by id
+  for (const auto& named : loaded_ids_) ids.insert(ids.end(), named.begin(), named.end());
+  if (ids.empty() || !point_order_->id_field()) return;
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  // Each process finds those among its points; every process gets all.
+  detail::Domain& d = *domain_;
+  const double* id = d.points.data(*point_order_->id_field());
+  std::vector<double> mine, all;
+  for (std::size_t q = 0; q < d.points.size(); ++q)
+    if (std::binary_search(ids.begin(), ids.end(), static_cast<std::size_t>(id[q]))) {
+      mine.push_back(id[q]);
+      mine.push_back(static_cast<double>(d.first_point() + q));
+    }
+  d.comm.all_gather(mine, d.comm.all_counts(mine.size()), all);
+  std::vector<std::size_t> now(ids.size());
+  for (std::size_t k = 0; k + 1 < all.size(); k += 2)
+    now[static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), static_cast<std::size_t>(all[k])) -
+                                 ids.begin())] = static_cast<std::size_t>(all[k + 1]);
+  loaded_points_.clear();
+  for (std::size_t b = 0; b < bcs_.size(); ++b) {
+    if (loaded_ids_[b].empty()) continue;
+    std::vector<std::size_t> numbers(loaded_ids_[b].size());
+    for (std::size_t k = 0; k < numbers.size(); ++k)
+      numbers[k] = now[static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), loaded_ids_[b][k]) -
+                                                ids.begin())];
+    bcs_[b]->renumber_loaded_points(numbers);
+    loaded_points_.insert(loaded_points_.end(), numbers.begin(), numbers.end());
+  }
+  std::sort(loaded_points_.begin(), loaded_points_.end());
+  loaded_points_.erase(std::unique(loaded_points_.begin(), loaded_points_.end()), loaded_points_.end());
 }
 
 std::size_t Simulation::point_sorts() const { return point_order_->sorts(); }

@@ -95,8 +95,7 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt, doubl
         body = b.name;
         material = scene_.materials[b.material].name + "' (" + scene_.materials[b.material].phase.type + ")";
       }
-    msg << "the run blew up at step " << step << " (t = " << time << " s): material point " << d.first_point() + f->point
-        << " of body '" << body << "' at (";
+    msg << "the run blew up at step " << step << " (t = " << time << " s): " << d.point_name(f->point) << " of body '" << body << "' at (";
     for (int a = 0; a < D; ++a) msg << (a ? ", " : "") << x[f->point * D + a];
     msg << "), material '" << material << ": " << f->field << " = " << f->value << ", " << f->problem
         << ". The time step (" << dt << " s) may be too large for this scene: remove /time/dt or lower it "

@@ -1,11 +1,9 @@
 #pragma once
 // Boundary conditions act on sets of grid nodes at named stages of the step,
 // and may act through material points (a load carried by a body's surface).
-#include <algorithm>
 #include <span>
 #include <vector>
 
-#include "suffuse/error.hpp"
 #include "suffuse/grid.hpp"
 #include "suffuse/points.hpp"
 
@@ -46,7 +44,7 @@ class BoundaryCondition {
   // Once, after the material points are created and before the first step.
   // The core never removes points, but may sort them again into the grid's
   // order (/sort_points_at_spread): a condition that keeps point numbers
-  // then gets their new ones (renumber_loaded_points).
+  // then gets their new ones (follows_renumbering, renumber_loaded_points).
   virtual void setup_points(const GridGeometry& grid, const PointSet& points) { (void)grid; (void)points; }
   // Stage "apply_forces", right after apply_forces(grid, nodes, time): add
   // external nodal forces that act through the material points (a load that
@@ -66,18 +64,16 @@ class BoundaryCondition {
   // gathered each step (the others hold stale values); empty, the default:
   // every point's (such a condition must not keep point numbers).
   virtual std::vector<std::size_t> loaded_points() const { return {}; }
-  // When the run sorts its points again into the grid's order
-  // (/sort_points_at_spread, docs/parallel.md): the new numbers of the
-  // points loaded_points() named, in its order (on every process). A
-  // condition that keeps point numbers must take them. The default refuses
-  // any renumbering but the identity, which the core tries before the first
-  // step, so a condition that does not follow stops the run before it starts.
-  virtual void renumber_loaded_points(std::span<const std::size_t> new_numbers) {
-    const std::vector<std::size_t> now = loaded_points();
-    if (!std::equal(now.begin(), now.end(), new_numbers.begin(), new_numbers.end()))
-      throw Error("it keeps the numbers of the points it loads and does not follow when the points are sorted "
-                  "again (BoundaryCondition::renumber_loaded_points): set /sort_points_at_spread to 0");
-  }
+  // Whether the condition follows when the run sorts its points again into
+  // the grid's order (/sort_points_at_spread, docs/parallel.md), which
+  // changes their numbers. A scene that sorts refuses, before its first
+  // step, a condition that loads points (loads_points()) and does not
+  // follow. A condition that keeps point numbers must say loads_points().
+  virtual bool follows_renumbering() const { return false; }
+  // After a sort, and in a run restarted from a checkpoint written after
+  // one: the numbers, now, of the points loaded_points() named when
+  // setup_points ran, in that order (on every process).
+  virtual void renumber_loaded_points(std::span<const std::size_t> new_numbers) { (void)new_numbers; }
 };
 
 }  // namespace suffuse

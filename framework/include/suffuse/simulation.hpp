@@ -209,6 +209,12 @@ class Simulation {
   // The points the conditions that load points read (serial numbers), or
   // every point if one of them does not say (BoundaryCondition::loaded_points).
   std::vector<std::size_t> loaded_points_;
+  // Per condition, the points it named at setup_points (their ids, the
+  // point field "id", once the points may be sorted).
+  std::vector<std::vector<std::size_t>> loaded_ids_;
+  // Tells the conditions that keep point numbers their points' numbers now
+  // (after a sort, or a restart from a checkpoint written after one).
+  void renumber_loaded_points();
   bool load_every_point_ = false;
   // Stage "shape": the shape functions at the points, which are first
   // sorted again into the grid's order if they mixed (/sort_points_at_spread).

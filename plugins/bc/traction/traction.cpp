@@ -98,6 +98,7 @@ class TractionBC final : public suffuse::BoundaryCondition {
   bool loads_points() const override { return true; }
   std::vector<std::size_t> loaded_points() const override { return points_; }
   // Each loaded point keeps its area; only its number changes.
+  bool follows_renumbering() const override { return true; }
   void renumber_loaded_points(std::span<const std::size_t> new_numbers) override {
     points_.assign(new_numbers.begin(), new_numbers.end());
   }

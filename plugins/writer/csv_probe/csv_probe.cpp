@@ -154,11 +154,15 @@ class CsvProbe final : public suffuse::Writer {
     if (followed_) return *followed_;
     const double* x = pts.data(pts.core().position);
     const double* u = pts.data(pts.core().displacement);
+    // Of points equally near, the first in the run's initial numbering
+    // (field "id" once the points may have been sorted again).
+    const std::optional<suffuse::FieldId> id_field = pts.find("id");
+    const double* id = id_field ? pts.data(*id_field) : nullptr;
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t p = 0; p < pts.size(); ++p) {
       double d2 = 0;
       for (int a = 0; a < dim_; ++a) d2 += std::pow(x[p * dim_ + a] - u[p * dim_ + a] - at_[a], 2);
-      if (d2 < best) {
+      if (d2 < best || (d2 == best && id && id[p] < id[*followed_])) {
         best = d2;
         followed_ = p;
       }
