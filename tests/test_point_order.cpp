@@ -66,6 +66,48 @@ std::string slurp(const fs::path& file) {
   return s.str();
 }
 
+// Runs `j` to its end with a checkpoint at `checkpoint_at` seconds, copies
+// the output directory once that checkpoint is written, restarts from the
+// copy, and expects both runs to end with the same checkpoint, byte for
+// byte. Returns the sorts of the whole run by the checkpoint and at its
+// end, and those of the restarted run.
+struct RestartSorts {
+  std::size_t at_checkpoint = 99, whole = 0, restarted = 0;
+};
+RestartSorts expect_restart_ends_alike(const json& j, const std::string& name, double checkpoint_at) {
+  const fs::path whole_dir = fs::temp_directory_path() / ("suffuse_point_order_" + name + "_whole"),
+                 copy_dir = fs::temp_directory_path() / ("suffuse_point_order_" + name + "_restarted");
+  fs::remove_all(whole_dir);
+  fs::remove_all(copy_dir);
+  suffuse::Registry registry;
+  suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  scene.name = name;
+  const fs::path checkpoint = name + ".checkpoint";
+  suffuse::Simulation whole(scene, registry, 1);
+  suffuse::RunOptions options;
+  options.output_dir = whole_dir;
+  options.checkpoint_interval = checkpoint_at;
+  RestartSorts sorts;
+  options.on_step = [&](const suffuse::Progress&) {
+    if (sorts.at_checkpoint != 99 || !fs::exists(whole_dir / checkpoint)) return;
+    fs::copy(whole_dir, copy_dir, fs::copy_options::recursive);
+    sorts.at_checkpoint = whole.point_sorts();
+  };
+  whole.run(options);
+  sorts.whole = whole.point_sorts();
+  suffuse::Simulation rest(scene, registry, 1);
+  suffuse::RunOptions resume;
+  resume.output_dir = copy_dir;
+  resume.restart = copy_dir / checkpoint;
+  rest.run(resume);
+  sorts.restarted = rest.point_sorts();
+  EXPECT_EQ(rest.steps(), whole.steps());
+  const std::string a = slurp(whole_dir / checkpoint), b = slurp(copy_dir / checkpoint);
+  EXPECT_GT(a.size(), 10000u);
+  EXPECT_TRUE(a == b) << name << ": the restarted run ends elsewhere";
+  return sorts;
+}
+
 // Each point's number at the start (field "id"), checked to be a
 // permutation of 0 .. n-1.
 std::vector<std::size_t> start_numbers(const suffuse::PointSet& pts) {
@@ -154,37 +196,10 @@ TEST(PointOrder, SortingAtEveryStepChangesOnlyTheNumbers) {
 // from a checkpoint at 0.3 s, before the sort, sorts where the whole run
 // does: both end with the same checkpoint, byte for byte.
 TEST(PointOrder, CollapseSortsOnceItsPointsMixAndARestartSortsAlike) {
-  const fs::path whole_dir = fs::temp_directory_path() / "suffuse_point_order_whole",
-                 copy_dir = fs::temp_directory_path() / "suffuse_point_order_restarted";
-  fs::remove_all(whole_dir);
-  fs::remove_all(copy_dir);
-  suffuse::Registry registry;
-  suffuse::Scene scene = suffuse::test::scene_from(collapse(0.6), registry);
-  scene.name = "collapse";
-  suffuse::Simulation whole(scene, registry, 1);
-  suffuse::RunOptions options;
-  options.output_dir = whole_dir;
-  options.checkpoint_interval = 0.3;
-  std::size_t sorts_at_copy = 99;
-  options.on_step = [&](const suffuse::Progress&) {
-    if (sorts_at_copy != 99 || !fs::exists(whole_dir / "collapse.checkpoint")) return;
-    fs::copy(whole_dir, copy_dir, fs::copy_options::recursive);
-    sorts_at_copy = whole.point_sorts();
-  };
-  whole.run(options);
-  EXPECT_EQ(sorts_at_copy, 0u) << "the checkpoint at 0.3 s comes before the sort";
-  EXPECT_EQ(whole.point_sorts(), 1u);
-
-  suffuse::Simulation rest(scene, registry, 1);
-  suffuse::RunOptions resume;
-  resume.output_dir = copy_dir;
-  resume.restart = copy_dir / "collapse.checkpoint";
-  rest.run(resume);
-  EXPECT_EQ(rest.point_sorts(), 1u);
-  EXPECT_EQ(rest.steps(), whole.steps());
-  const std::string a = slurp(whole_dir / "collapse.checkpoint"), b = slurp(copy_dir / "collapse.checkpoint");
-  ASSERT_GT(a.size(), 100000u);
-  EXPECT_TRUE(a == b);
+  const RestartSorts sorts = expect_restart_ends_alike(collapse(0.6), "collapse", 0.3);
+  EXPECT_EQ(sorts.at_checkpoint, 0u) << "the checkpoint at 0.3 s comes before the sort";
+  EXPECT_EQ(sorts.whole, 1u);
+  EXPECT_EQ(sorts.restarted, 1u);
 }
 
 // A surcharge on a column's top points (bc/traction keeps their numbers)
@@ -291,34 +306,8 @@ TEST(PointOrder, ARestartAfterASortLoadsTheSamePoints) {
   json j = collapse(0.7);
   j["boundary_conditions"].push_back(
       {{"type", "bc/traction"}, {"box_min", {0.0, 0.8}}, {"box_max", {0.2, 0.8}}, {"traction", {0.0, -2000.0}}});
-  const fs::path whole_dir = fs::temp_directory_path() / "suffuse_point_order_loaded_whole",
-                 copy_dir = fs::temp_directory_path() / "suffuse_point_order_loaded_restarted";
-  fs::remove_all(whole_dir);
-  fs::remove_all(copy_dir);
-  suffuse::Registry registry;
-  suffuse::Scene scene = suffuse::test::scene_from(j, registry);
-  scene.name = "loaded";
-  suffuse::Simulation whole(scene, registry, 1);
-  suffuse::RunOptions options;
-  options.output_dir = whole_dir;
-  options.checkpoint_interval = 0.6;
-  std::size_t sorts_at_copy = 99;
-  options.on_step = [&](const suffuse::Progress&) {
-    if (sorts_at_copy != 99 || !fs::exists(whole_dir / "loaded.checkpoint")) return;
-    fs::copy(whole_dir, copy_dir, fs::copy_options::recursive);
-    sorts_at_copy = whole.point_sorts();
-  };
-  whole.run(options);
-  EXPECT_EQ(sorts_at_copy, 1u) << "the checkpoint at 0.6 s comes after the sort";
-  EXPECT_EQ(whole.point_sorts(), 1u);
-  suffuse::Simulation rest(scene, registry, 1);
-  suffuse::RunOptions resume;
-  resume.output_dir = copy_dir;
-  resume.restart = copy_dir / "loaded.checkpoint";
-  rest.run(resume);
-  EXPECT_EQ(rest.point_sorts(), 0u);
-  EXPECT_EQ(rest.steps(), whole.steps());
-  const std::string a = slurp(whole_dir / "loaded.checkpoint"), b = slurp(copy_dir / "loaded.checkpoint");
-  ASSERT_GT(a.size(), 10000u);
-  EXPECT_TRUE(a == b);
+  const RestartSorts sorts = expect_restart_ends_alike(j, "loaded", 0.6);
+  EXPECT_EQ(sorts.at_checkpoint, 1u) << "the checkpoint at 0.6 s comes after the sort";
+  EXPECT_EQ(sorts.whole, 1u);
+  EXPECT_EQ(sorts.restarted, 0u);
 }
