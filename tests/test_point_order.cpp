@@ -190,14 +190,17 @@ TEST(PointOrder, SortingAtEveryStepChangesOnlyTheNumbers) {
   EXPECT_NEAR(sorted->sim->total_mass(), fixed->sim->total_mass(), 1e-14 * fixed->sim->total_mass());
 }
 
-// At the default threshold (1.5) the collapse sorts its points once, when
-// the spreading column has mixed them (its chunks' spread 1.28 times that
-// at the start by 0.3 s, sorted between 0.42 and 0.48 s). A run restarted
-// from a checkpoint at 0.3 s, before the sort, sorts where the whole run
-// does: both end with the same checkpoint, byte for byte.
+// The collapse sorts its points once they have mixed. At a threshold of
+// 1.15 (the default 1.5 is reached between 0.42 and 0.48 s, which
+// Parallel.SortedPointsMoveBetweenProcessesAndEqualSerial runs through) it
+// does not by 0.15 s and sorts once by 0.25 s. A run restarted from a
+// checkpoint at 0.15 s, before the sort, sorts where the whole run does:
+// both end with the same checkpoint, byte for byte.
 TEST(PointOrder, CollapseSortsOnceItsPointsMixAndARestartSortsAlike) {
-  const RestartSorts sorts = expect_restart_ends_alike(collapse(0.6), "collapse", 0.3);
-  EXPECT_EQ(sorts.at_checkpoint, 0u) << "the checkpoint at 0.3 s comes before the sort";
+  json j = collapse(0.25);
+  j["sort_points_at_spread"] = 1.15;
+  const RestartSorts sorts = expect_restart_ends_alike(j, "collapse", 0.15);
+  EXPECT_EQ(sorts.at_checkpoint, 0u) << "the checkpoint at 0.15 s comes before the sort";
   EXPECT_EQ(sorts.whole, 1u);
   EXPECT_EQ(sorts.restarted, 1u);
 }
@@ -299,15 +302,16 @@ TEST(PointOrder, AConditionThatDoesNotFollowIsRefusedBeforeTheRun) {
 // A run restarted from a checkpoint written after a sort: the surcharge of
 // bc/traction (which named its points on the fresh lattice) acts on the
 // same points as in the uninterrupted run. The collapse under a surcharge
-// on the top of the column sorts once, between 0.5 and 0.55 s; restarted
-// from the checkpoint at 0.6 s it does not sort again and ends with the
-// same checkpoint at 0.7 s, byte for byte.
+// on the top of the column, at a threshold of 1.15, sorts once between
+// 0.25 and 0.3 s and again by 0.35 s; restarted from the checkpoint at
+// 0.3 s it ends with the whole run's checkpoint, byte for byte.
 TEST(PointOrder, ARestartAfterASortLoadsTheSamePoints) {
-  json j = collapse(0.7);
+  json j = collapse(0.35);
+  j["sort_points_at_spread"] = 1.15;
   j["boundary_conditions"].push_back(
       {{"type", "bc/traction"}, {"box_min", {0.0, 0.8}}, {"box_max", {0.2, 0.8}}, {"traction", {0.0, -2000.0}}});
-  const RestartSorts sorts = expect_restart_ends_alike(j, "loaded", 0.6);
-  EXPECT_EQ(sorts.at_checkpoint, 1u) << "the checkpoint at 0.6 s comes after the sort";
-  EXPECT_EQ(sorts.whole, 1u);
-  EXPECT_EQ(sorts.restarted, 0u);
+  const RestartSorts sorts = expect_restart_ends_alike(j, "loaded", 0.3);
+  EXPECT_EQ(sorts.at_checkpoint, 1u) << "the checkpoint at 0.3 s comes after the first sort";
+  EXPECT_EQ(sorts.whole, 2u);
+  EXPECT_EQ(sorts.restarted, 1u);
 }
