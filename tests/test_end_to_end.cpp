@@ -207,11 +207,13 @@ TEST(EndToEnd, CommandsForPluginsAndHelp) {
   EXPECT_EQ(run("frobnicate", out / "unknown.txt"), 2);
 }
 
-// PETSc (about 90 libraries with MUMPS, HYPRE, Trilinos, HDF5) and VTK's
-// rendering and OpenGL are loaded only by what needs them (the modules of
-// distributed_system.hpp and figures_module.hpp): linked into the core or
-// the program, they cost every command 50 MB and a tenth of a second.
-TEST(EndToEnd, ARunLoadsNeitherPetscNorTheRenderer) {
+// PETSc (about 90 libraries with MUMPS, HYPRE, Trilinos, HDF5), VTK's
+// rendering and OpenGL, and VTK's XML output are loaded only by what needs
+// them (the modules of distributed_system.hpp, figures_module.hpp and
+// plugins/writer/vtk_common/vtk_files.hpp): linked into the core, the
+// program or the plugins, they cost every command 60 MB and a tenth of a
+// second.
+TEST(EndToEnd, ARunLoadsOnlyTheLibrariesItsOutputsNeed) {
   const fs::path out = fresh_dir("libraries");
   // glibc's loader lists each library it opens ("file=libname ...").
   ASSERT_EQ(run("run " + std::string(SUFFUSE_SOURCE_DIR) + "/share/scenes/elastic_bar.json --quiet --output " +
@@ -223,6 +225,23 @@ TEST(EndToEnd, ARunLoadsNeitherPetscNorTheRenderer) {
   EXPECT_EQ(opened.find("file=libpetsc"), std::string::npos);
   EXPECT_EQ(opened.find("file=libvtkRendering"), std::string::npos);
   EXPECT_EQ(opened.find("file=libGL"), std::string::npos);
+  // Its writer/vtk_particles loads VTK's XML output, through the module.
+  EXPECT_NE(opened.find("/libsuffuse_vtk_files.so"), std::string::npos);
+  EXPECT_NE(opened.find("file=libvtkIOXML"), std::string::npos);
+
+  // The same bar with a CSV probe only: no VTK library at all (the plugin
+  // loader opens every plugin library, the VTK writers' too).
+  auto bar = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/elastic_bar.json");
+  bar["outputs"] = {{{"type", "writer/csv_probe"}, {"at", {0.0, 0.0}}, {"fields", {"displacement"}}}};
+  std::ofstream(out / "bar.json") << bar.dump(2);
+  ASSERT_EQ(run("run " + (out / "bar.json").string() + " --quiet --output " + (out / "csv").string(),
+                out / "csv.txt", "LD_DEBUG=files "),
+            0)
+      << slurp(out / "csv.txt");
+  const std::string csv_only = slurp(out / "csv.txt");
+  ASSERT_NE(csv_only.find("/libsuffuse_writer_vtk_particles.so"), std::string::npos) << csv_only;
+  EXPECT_EQ(csv_only.find("file=libvtk"), std::string::npos) << "a plugin library links VTK";
+  EXPECT_TRUE(fs::exists(out / "csv/bar.csv"));
 }
 
 // A saturated run says which liquid bulk modulus it uses, in the log and in

@@ -135,6 +135,16 @@ TEST(Install, TemplateLawBuildsAgainstTheInstalledPackageAndRuns) {
       << slurp(inst.root / "plot_without_module.log");
   EXPECT_EQ(sh(inst.program().string() + " --version", inst.root / "version.log"), 0);
   fs::rename(inst.root / "libsuffuse_figures.so", inst.prefix / "lib/suffuse/libsuffuse_figures.so");
+  // The VTK writers load VTK from their module on the first frame: without
+  // it the run stops there, naming the writer and the module.
+  fs::rename(inst.prefix / "lib/suffuse/libsuffuse_vtk_files.so", inst.root / "libsuffuse_vtk_files.so");
+  EXPECT_EQ(sh(inst.program().string() + " run " + (law / "first_order_box.json").string() + " --output " +
+                   (law / "out_without_module").string(),
+               inst.root / "run_without_module.log"),
+            1);
+  const std::string without = slurp(inst.root / "run_without_module.log");
+  EXPECT_NE(without.find("writer/vtk_particles: cannot load the VTK module"), std::string::npos) << without;
+  fs::rename(inst.root / "libsuffuse_vtk_files.so", inst.prefix / "lib/suffuse/libsuffuse_vtk_files.so");
 
   // suffuse plugins lists it with its library; describe prints its parameters.
   const std::string with_law = "SUFFUSE_PLUGIN_PATH=" + (law / "build").string() + " ";

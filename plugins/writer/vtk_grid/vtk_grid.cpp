@@ -4,19 +4,13 @@
 // mass) as point data, and cell averages of point fields (porosity, fines
 // content, concentration, eroded fraction, ...) and the point count per cell
 // as cell data.
-#include <vtkCellData.h>
-#include <vtkImageData.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkXMLImageDataWriter.h>
-
 #include <algorithm>
 #include <cmath>
 #include <suffuse/error.hpp>
 #include <suffuse/plugin.hpp>
 #include <vector>
 
-#include "vtk_common.hpp"
+#include "vtk_files.hpp"
 
 namespace {
 
@@ -56,19 +50,19 @@ class VtkGrid final : public suffuse::Writer {
   void write(const suffuse::OutputFrame& frame) override {
     const suffuse::GridGeometry& g = frame.grid;
     const int dim = g.dim();
-    vtkNew<vtkImageData> image;
-    const auto& nodes = g.nodes_per_axis();
-    image->SetDimensions(nodes[0], nodes[1], dim == 3 ? nodes[2] : 1);
-    image->SetOrigin(g.origin()[0], g.origin()[1], dim == 3 ? g.origin()[2] : 0.0);
-    image->SetSpacing(g.cell_size()[0], g.cell_size()[1], dim == 3 ? g.cell_size()[2] : 1.0);
+    suffuse::vtk::ImageFrame image;
+    image.dim = dim;
+    for (int a = 0; a < dim; ++a) {
+      image.nodes[a] = g.nodes_per_axis()[a];
+      image.origin[a] = g.origin()[a];
+      image.spacing[a] = g.cell_size()[a];
+    }
     for (const suffuse::GridField& f : frame.grid_fields) {
       const FieldKind kind = f.components == 1 ? FieldKind::Scalar : FieldKind::Vector;
-      image->GetPointData()->AddArray(suffuse::vtk::make_array(f.name, kind, dim, g.node_count(), f.values.data()));
+      image.node_arrays.push_back({f.name, kind, g.node_count(), f.values.data(), {}});
     }
-    add_cell_averages(frame, *image);
-    vtkNew<vtkXMLImageDataWriter> writer;
-    writer->SetInputData(image);
-    suffuse::vtk::write_atomically(*writer, files_.next_path(), compress_, "writer/vtk_grid");
+    add_cell_averages(frame, image);
+    suffuse::vtk::write_image(image, files_.next_path(), compress_, "writer/vtk_grid");
     files_.written(frame.series, frame.time);
   }
 
@@ -90,39 +84,44 @@ class VtkGrid final : public suffuse::Writer {
     }
   }
 
-  void add_cell_averages(const suffuse::OutputFrame& frame, vtkImageData& image) {
+  // Appends the point count and the averages of the cell fields to the
+  // image's cell arrays, held in cell_values_ until the frame is written.
+  void add_cell_averages(const suffuse::OutputFrame& frame, suffuse::vtk::ImageFrame& image) {
     const suffuse::PointSet& pts = frame.points;
     const suffuse::GridGeometry& g = frame.grid;
     const int dim = g.dim();
     std::size_t cells = 1;
     for (int a = 0; a < dim; ++a) cells *= static_cast<std::size_t>(g.cells()[a]);
     locate(pts, g);
-    const double* volume = pts.data(pts.core().volume);
-    std::vector<double> count(cells, 0.0), weight(cells, 0.0);
-    for (std::size_t p = 0; p < pts.size(); ++p) {
-      count[cell_of_[p]] += 1;
-      weight[cell_of_[p]] += volume[p];
-    }
-    image.GetCellData()->AddArray(suffuse::vtk::make_array("point_count", FieldKind::Scalar, dim, cells, count.data()));
     std::vector<std::string> names = cell_fields_;
     if (names.empty())
       for (const std::string& name : default_cell_fields)
         if (pts.find(name)) names.push_back(name);
-    std::vector<double> mean;
-    for (const std::string& name : names) {
-      const suffuse::FieldId f = pts.id(name);
+    cell_values_.resize(names.size() + 1);
+    const double* volume = pts.data(pts.core().volume);
+    std::vector<double>& count = cell_values_[0];
+    count.assign(cells, 0.0);
+    std::vector<double> weight(cells, 0.0);
+    for (std::size_t p = 0; p < pts.size(); ++p) {
+      count[cell_of_[p]] += 1;
+      weight[cell_of_[p]] += volume[p];
+    }
+    image.cell_arrays.push_back({"point_count", FieldKind::Scalar, cells, count.data(), {}});
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const suffuse::FieldId f = pts.id(names[i]);
       const suffuse::FieldInfo& info = pts.info(f);
       if (info.kind == FieldKind::Tensor)
-        throw suffuse::Error("writer/vtk_grid: cell field '" + name +
+        throw suffuse::Error("writer/vtk_grid: cell field '" + names[i] +
                              "' is a full tensor; cell averages are of scalars, vectors and symmetric tensors");
       const int k = pts.components(f);
       const double* v = pts.data(f);
+      std::vector<double>& mean = cell_values_[i + 1];
       mean.assign(cells * k, 0.0);
       for (std::size_t p = 0; p < pts.size(); ++p)
         for (int c = 0; c < k; ++c) mean[cell_of_[p] * k + c] += volume[p] * v[p * k + c];
       for (std::size_t c = 0; c < cells; ++c)
-        for (int i = 0; i < k; ++i) mean[c * k + i] = weight[c] > 0 ? mean[c * k + i] / weight[c] : 0.0;
-      image.GetCellData()->AddArray(suffuse::vtk::make_array(name, info.kind, dim, cells, mean.data()));
+        for (int j = 0; j < k; ++j) mean[c * k + j] = weight[c] > 0 ? mean[c * k + j] / weight[c] : 0.0;
+      image.cell_arrays.push_back({names[i], info.kind, cells, mean.data(), {}});
     }
   }
 
@@ -130,6 +129,7 @@ class VtkGrid final : public suffuse::Writer {
   bool compress_;
   suffuse::vtk::FrameFiles files_{"vti"};
   std::vector<std::size_t> cell_of_;
+  std::vector<std::vector<double>> cell_values_;  // point count, then each cell field
 };
 
 }  // namespace

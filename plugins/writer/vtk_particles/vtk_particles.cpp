@@ -1,16 +1,8 @@
 // writer/vtk_particles: one binary .vtp per frame with every output field of
 // the points, listed in the run's .pvd collection with its simulation time.
-#include <vtkCellArray.h>
-#include <vtkInformation.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkPolyData.h>
-#include <vtkXMLPolyDataWriter.h>
-
 #include <suffuse/plugin.hpp>
 
-#include "vtk_common.hpp"
+#include "vtk_files.hpp"
 
 namespace {
 
@@ -32,38 +24,15 @@ class VtkParticles final : public suffuse::Writer {
 
   void write(const suffuse::OutputFrame& frame) override {
     const suffuse::PointSet& pts = frame.points;
-    const int dim = pts.dim();
-    const std::size_t n = pts.size();
-    const double* x = pts.data(pts.core().position);
-
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToDouble();
-    points->SetNumberOfPoints(static_cast<vtkIdType>(n));
-    for (std::size_t p = 0; p < n; ++p) {
-      double xyz[3] = {0, 0, 0};
-      for (int a = 0; a < dim; ++a) xyz[a] = x[p * dim + a];
-      points->SetPoint(static_cast<vtkIdType>(p), xyz);
-    }
-    vtkNew<vtkCellArray> vertices;
-    vertices->AllocateExact(static_cast<vtkIdType>(n), static_cast<vtkIdType>(n));
-    for (std::size_t p = 0; p < n; ++p) {
-      vtkIdType id = static_cast<vtkIdType>(p);
-      vertices->InsertNextCell(1, &id);
-    }
-    vtkNew<vtkPolyData> poly;
-    poly->SetPoints(points);
-    poly->SetVerts(vertices);
+    suffuse::vtk::PointsFrame out;
+    out.dim = pts.dim();
+    out.count = pts.size();
+    out.positions = pts.data(pts.core().position);
     for (suffuse::FieldId f = 0; f < pts.field_count(); ++f) {
       const suffuse::FieldInfo& info = pts.info(f);
-      if (!info.output) continue;
-      auto array = suffuse::vtk::make_array(info.name, info.kind, dim, n, pts.data(f));
-      // The unit travels with the array (suffuse plot reads it for its labels).
-      array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), info.unit.c_str());
-      poly->GetPointData()->AddArray(array);
+      if (info.output) out.arrays.push_back({info.name, info.kind, pts.size(), pts.data(f), info.unit});
     }
-    vtkNew<vtkXMLPolyDataWriter> writer;
-    writer->SetInputData(poly);
-    suffuse::vtk::write_atomically(*writer, files_.next_path(), compress_, "writer/vtk_particles");
+    suffuse::vtk::write_points(out, files_.next_path(), compress_, "writer/vtk_particles");
     files_.written(frame.series, frame.time);
   }
 
