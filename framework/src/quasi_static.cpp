@@ -76,6 +76,12 @@ void QuasiStatic::prepare(double time, double dt) {
   std::fill(cell_count_.begin(), cell_count_.end(), 0.0);
   const auto& g = scene_.gravity;
   creep_.assign(nn * dim, 0.0);  // none until a point has no stiffness (assemble)
+  const bool inertia = scene_.quasi_static.inertia;
+  const double* v = pts.data(c.velocity);
+  if (inertia) {
+    inertia_.assign(nn * dim, 0.0);
+    inertia_target_.assign(nn * dim, 0.0);
+  }
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const bool wet = n && n[p] > 0;
     const double weight = m[p] + (wet ? moving[p] : 0.0);
@@ -86,6 +92,11 @@ void QuasiStatic::prepare(double time, double dt) {
       node_mass_[I] += N * m[p];
       node_cover_[I] += N * V[p];
       for (int i = 0; i < dim; ++i) f_ext_[I * dim + i] += N * weight * g[i];
+      if (inertia)  // the mixture's mass and momentum (the liquid moving with the skeleton, as in u-p)
+        for (int i = 0; i < dim; ++i) {
+          inertia_[I * dim + i] += N * weight;
+          inertia_target_[I * dim + i] += N * weight * v[p * dim + i];
+        }
       if (!wet) continue;
       node_pore_[I] += N * n[p] * V[p];
       node_volume_[I] += N * V[p];
@@ -100,8 +111,19 @@ void QuasiStatic::prepare(double time, double dt) {
     }
     ++cell_count_[cell];
   }
-  for (auto* v : {&node_mass_, &node_cover_, &f_ext_, &node_pore_, &node_volume_, &p_, &cell_count_})
-    sum_over_processes(*v);
+  for (auto* sums : {&node_mass_, &node_cover_, &f_ext_, &node_pore_, &node_volume_, &p_, &cell_count_})
+    sum_over_processes(*sums);
+  // Inertia: M (du - dt v0) / dt^2 in each displacement equation, v0 the
+  // nodal velocity at the start of the step (mass-weighted).
+  if (inertia) {
+    sum_over_processes(inertia_);
+    sum_over_processes(inertia_target_);
+    for (std::size_t k = 0; k < inertia_.size(); ++k) {
+      const double M = inertia_[k];
+      inertia_target_[k] = M > 0 ? dt * inertia_target_[k] / M : 0.0;
+      inertia_[k] = M / (dt * dt);
+    }
+  }
   for (std::size_t I = 0; I < nn; ++I)
     if (node_volume_[I] > 0) p_[I] /= node_volume_[I];
 
@@ -357,7 +379,8 @@ double QuasiStatic::evaluate(double dt) {
       f2 += f_ext_[k] * f_ext_[k];
       i2 += f_int[k] * f_int[k];
       if (u_dof_[k] < 0) continue;
-      const double r = f_ext_[k] - f_int[k] - creep_[k] * du_[k];
+      double r = f_ext_[k] - f_int[k] - creep_[k] * du_[k];
+      if (!inertia_.empty()) r -= inertia_[k] * (du_[k] - inertia_target_[k]);
       residual_[static_cast<std::size_t>(u_dof_[k])] = r;
       r2 += r * r;
     }
@@ -475,6 +498,8 @@ QuasiStatic::Held QuasiStatic::held_by(std::size_t b) const {
     const std::size_t I = k / dim, i = k % dim;
     if (node_mass_[I] <= 0) continue;
     held.force[i] += f_int_[k] - f_ext_[k];
+    // With inertia the constraint also accelerates its nodes' mass.
+    if (!inertia_.empty()) held.force[i] += inertia_[k] * (du_[k] - inertia_target_[k]);
     mass[i] += node_mass_[I];
     moved[i] += node_mass_[I] * du_[k];
   }

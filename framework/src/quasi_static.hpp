@@ -36,6 +36,16 @@
 // swings by metres, straining the points it touches. Such nodes have no
 // unknowns: they follow the points they touch (follow_tail_nodes).
 //
+// With /time/inertia the mixture's inertia joins the balance of each node's
+// displacement (backward Euler, the u-p approximation: the liquid moves
+// with the skeleton): M (du - dt v0) / dt^2 in the residual, M / dt^2 on the
+// diagonal, M and v0 the mixture's nodal mass and velocity at the step's
+// start. Implicit dynamics: unconditionally stable, first order, damping
+// each mode by 1 / sqrt(1 + omega^2 dt^2) per step; negligible in steps
+// much longer than the soil's periods, and where the skeleton loses its
+// equilibrium (a collapse) it lets the soil accelerate instead. The points'
+// velocities then change as FLIP's do in explicit runs (update_points).
+//
 // Boundary conditions are read from the plugins' own effects on the nodes:
 // a velocity constraint fixes du = v dt; a face a condition opens to the
 // liquid fixes p there (bc/pore_pressure, the pressure read from its force
@@ -154,6 +164,8 @@ class QuasiStatic {
   std::vector<double> tail_sum_, tail_weight_;  // per node: work arrays of follow_tail_nodes
   std::vector<double> residual_;             // per equation
   std::vector<double> creep_;                // per node component: the regularising stiffness
+  // With /time/inertia, per node component: M / dt^2, and dt v0 (empty without).
+  std::vector<double> inertia_, inertia_target_;
   std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual
   std::vector<double> point_pressure_;       // p interpolated at the points (saturated ones)
   std::vector<double> cell_count_;           // saturated points per cell

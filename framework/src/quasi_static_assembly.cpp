@@ -200,6 +200,9 @@ void QuasiStatic::assemble(double dt) {
   // Every process's creep_: the residual reads it (evaluate).
   if (distributed && d_.comm.any(std::any_of(creep_.begin(), creep_.end(), [](double c) { return c != 0; })))
     sum_over_processes(creep_);
+  // What the nodes' own terms add to a displacement equation's diagonal: the
+  // creep term, and the inertia (M / dt^2) with /time/inertia.
+  const auto own_diagonal = [&](std::size_t k) { return creep_[k] + (inertia_.empty() ? 0.0 : inertia_[k]); };
   // The blocks: row and column i < dim the displacement components, dim the pressure.
   const int w = dim + 1, bsize = w * w;
   std::fill(blocks_.begin(), blocks_.end(), 0.0);
@@ -236,7 +239,7 @@ void QuasiStatic::assemble(double dt) {
           const std::int64_t col = j < dim ? u_dof_[J * dim + j] : p_dof_[J];
           if (col < 0) continue;
           double v = B[i * w + j];
-          if (i == j && I == J && i < dim && !distributed) v += creep_[I * dim + i];
+          if (i == j && I == J && i < dim && !distributed) v += own_diagonal(I * dim + i);
           if (in_place) {
             if (entry < L.value_at.size()) values[L.value_at[entry]] = v;
             ++entry;  // more than the step's first assembly had: a defect, reported below
@@ -250,10 +253,11 @@ void QuasiStatic::assemble(double dt) {
   // a step would be a defect of this code, not of the scene.
   if (in_place && entry != L.value_at.size())
     throw Error("internal error: the quasi-static matrix changed its pattern within a step; please report the scene");
-  if (distributed) {  // each process adds its points' blocks, and the first the creep term
+  if (distributed) {  // each process adds its points' blocks, and the first the nodes' own terms
     if (d_.comm.root())
       for (std::size_t k = 0; k < u_dof_.size(); ++k)
-        if (u_dof_[k] >= 0 && creep_[k] != 0) t.emplace_back(static_cast<int>(u_dof_[k]), static_cast<int>(u_dof_[k]), creep_[k]);
+        if (u_dof_[k] >= 0 && own_diagonal(k) != 0)
+          t.emplace_back(static_cast<int>(u_dof_[k]), static_cast<int>(u_dof_[k]), own_diagonal(k));
     DistributedSystem& system = *L.distributed;
     if (!L.distributed_started) {
       system.start(equations_);

@@ -22,16 +22,24 @@ void QuasiStatic::update_points(double dt) {
   double* x = pts.data(c.position);
   double* u = pts.data(c.displacement);
   double* v = pts.data(c.velocity);
+  // Velocities: without inertia the step's mean, du / dt; with it FLIP, as
+  // in explicit runs: the points' own velocity changes by the nodes' change
+  // (du / dt - v0), which carries no averaging over the support from step to
+  // step (the mean would damp a collapse more, the more steps it takes).
+  const bool flip = !inertia_.empty();
   for (std::size_t p = 0; p < pts.size(); ++p) {
-    double du[3] = {0, 0, 0};
+    double du[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t q = p * s.npp + a;
-      for (int i = 0; i < dim; ++i) du[i] += s.weights[q] * du_[static_cast<std::size_t>(s.ids[q]) * dim + i];
+      const std::size_t I = static_cast<std::size_t>(s.ids[q]);
+      for (int i = 0; i < dim; ++i) du[i] += s.weights[q] * du_[I * dim + i];
+      if (flip)
+        for (int i = 0; i < dim; ++i) dv[i] += s.weights[q] * (du_[I * dim + i] - inertia_target_[I * dim + i]);
     }
     for (int i = 0; i < dim; ++i) {
       x[p * dim + i] += du[i];
       u[p * dim + i] += du[i];
-      v[p * dim + i] = du[i] / dt;
+      v[p * dim + i] = flip ? v[p * dim + i] + dv[i] / dt : du[i] / dt;
     }
   }
   if (!mixture_) return;

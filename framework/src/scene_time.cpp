@@ -46,6 +46,11 @@ ParameterSchema time_schema() {
       "side (the same equilibria within the Newton tolerance, much less work where the tangent changes); false: "
       "every iteration factorises its own matrix. On many processes the same through PETSc: GMRES preconditioned "
       "by the preconditioner its solver last set up");
+  s.boolean("inertia").fallback(false).doc(
+      "Quasi-static only: the mixture's inertia joins each step's balance (backward Euler: the nodal mass times "
+      "(du - dt v) / dt^2, v the velocity at the step's start), which makes it implicit dynamics. Negligible in "
+      "long steps; where the skeleton loses its equilibrium (a heave, a collapse) it lets the soil accelerate "
+      "instead of the steps shrinking without end. false: equilibria only");
   s.number("cfl").with_unit("-").above(0).at_most(1).fallback(0.5).doc(
       "Courant factor of the automatic time step");
   s.number("mass_scaling").with_unit("-").at_least(1).fallback(1.0).doc(
@@ -68,7 +73,7 @@ void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
   const bool quasi_static = t.has("integration") && t.string("integration") == "quasi_static";
   const char* qs_keys[] = {"max_dt", "growth", "eroded_fraction_tolerance", "transport_courant",
                            "steady_transport_tolerance", "newton_tolerance",
-                           "max_iterations", "creep", "reuse_factors"};
+                           "max_iterations", "creep", "reuse_factors", "inertia"};
   if (!quasi_static) {
     for (const char* key : qs_keys)
       if (r.root["time"].contains(key))
@@ -93,6 +98,7 @@ void read_integration(SceneReader& r, const Parameters& t, Scene& scene) {
   if (t.has("max_iterations")) q.max_iterations = static_cast<int>(t.integer("max_iterations"));
   if (t.has("creep")) q.creep = t.number("creep");
   if (t.has("reuse_factors")) q.reuse_factors = t.boolean("reuse_factors");
+  if (t.has("inertia")) q.inertia = t.boolean("inertia");
   // What only dynamics has would be silently ignored: refused instead.
   for (const char* key : {"cfl", "mass_scaling", "dt_above_stable"})
     if (r.root["time"].contains(key))

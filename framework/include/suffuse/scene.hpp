@@ -90,6 +90,7 @@ struct QuasiStaticControls {
   int max_iterations = 25;               // per step, before the step is halved
   double creep = 1e-4;                   // regularising stiffness, a fraction of the skeleton's
   bool reuse_factors = true;             // later Newton iterations: GMRES with an earlier iteration's factors
+  bool inertia = false;                  // the mixture's inertia in the equilibrium (implicit dynamics)
 };
 
 struct Scene {
