@@ -56,12 +56,7 @@ int run(const std::string& args, const fs::path& log, const std::string& environ
   return WEXITSTATUS(std::system(command.c_str()));
 }
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using suffuse::test::slurp;
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("suffuse_e2e_" + name);

@@ -269,12 +269,7 @@ int gradation(const fs::path& dir, const std::string& args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using suffuse::test::slurp;
 
 const std::string dem = (suffuse::test::source_dir() / "share/gradations/dem_gap_graded.csv").string();
 

@@ -22,12 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using suffuse::test::slurp;
 
 // Runs a shell command with the plugin path of the environment cleared, its
 // output in `log`; returns the exit status.

@@ -34,12 +34,7 @@ fs::path fresh_dir(const std::string& name) {
   return dir;
 }
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using suffuse::test::slurp;
 
 // `suffuse run` of `scene` into `out` on `processes` processes (1: without
 // mpirun), `threads` threads each; its exit status, its output in out/log.

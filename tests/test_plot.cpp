@@ -46,12 +46,7 @@ fs::path fresh_dir(const std::string& name) {
 
 void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using suffuse::test::slurp;
 
 // Runs suffuse plot ARGS in DIR; its exit status, with stdout and stderr in DIR/log.txt.
 int plot(const fs::path& dir, const std::string& args) {

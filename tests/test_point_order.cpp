@@ -59,12 +59,7 @@ std::unique_ptr<Run> run(const json& j, const std::string& name, const fs::path&
   return r;
 }
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using suffuse::test::slurp;
 
 // Runs `j` to its end with a checkpoint at `checkpoint_at` seconds, copies
 // the output directory once that checkpoint is written, restarts from the

@@ -77,6 +77,14 @@ inline nlohmann::json read_json(const std::filesystem::path& file) {
 
 inline std::filesystem::path source_dir() { return SUFFUSE_SOURCE_DIR; }
 
+// The whole of a file, byte for byte (empty if it cannot be read).
+inline std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 // Largest |a - b| relative to the largest |a|: how far a run drifted from a
 // reference run of the same field (0 if both are zero).
 inline double max_relative_difference(std::span<const double> a, std::span<const double> b) {

@@ -76,6 +76,12 @@ bool PointOrder::sort_if_spread(Domain& d) {
 }
 
 void PointOrder::sort(Domain& d) {
+  sort_points(d);
+  std::vector<std::size_t>().swap(cell_);
+  for (auto* buffer : {&counts_, &below_, &send_, &received_}) std::vector<double>().swap(*buffer);
+}
+
+void PointOrder::sort_points(Domain& d) {
   compute_cells(d);
   const std::size_t n = cell_.size(), cells = d.grid.cells()[0] * static_cast<std::size_t>(d.grid.cells()[1]) *
                                                   (d.dim() == 3 ? static_cast<std::size_t>(d.grid.cells()[2]) : 1);

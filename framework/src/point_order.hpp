@@ -62,11 +62,15 @@ class PointOrder {
 
  private:
   void compute_cells(const Domain& d);
+  void sort_points(Domain& d);  // sort's work, in the buffers below
   double threshold_;
   std::optional<FieldId> id_;
   double reference_ = 0;
   std::size_t sorts_ = 0;
-  std::vector<std::size_t> cell_, new_number_;
+  std::vector<std::size_t> new_number_;
+  // Work buffers of a sort, freed after it (sorts are rare; a field's copy
+  // is up to 48 bytes per point, the counts 8 per cell and body).
+  std::vector<std::size_t> cell_;
   std::vector<double> counts_, below_, send_, received_;
 };
 
