@@ -4,13 +4,9 @@
 #include "suffuse/version.hpp"
 
 #ifdef SUFFUSE_PETSC
-#include <boost/dll/runtime_symbol_info.hpp>
-#include <boost/dll/shared_library.hpp>
-#include <exception>
-#include <filesystem>
 #include <mutex>
-#include <optional>
-#include <utility>
+
+#include "suffuse/plugin_loader.hpp"
 #endif
 
 namespace suffuse::detail {
@@ -19,25 +15,17 @@ namespace suffuse::detail {
 
 namespace {
 
-// The module is never unloaded: PETSc, once started, is the process's
-// (PetscInitialize's state is global), and its clean-up at exit must find
-// its code.
+// The module is never unloaded (PluginLoader::load_module): PETSc, once
+// started, is the process's (PetscInitialize's state is global), and its
+// clean-up at exit must find its code.
 struct PetscModule {
   std::mutex mutex;
-  std::optional<boost::dll::shared_library> library;
   MakePetscSystem* make = nullptr;
   FinalizePetsc* finalize = nullptr;
 };
 PetscModule& petsc_module() {
   static PetscModule* module = new PetscModule;
   return *module;
-}
-
-// Next to the bundled plugins (<libdir>/suffuse), found from the core's own
-// location as they are, so a build tree and a moved install both work.
-std::filesystem::path petsc_module_path() {
-  const std::filesystem::path core = boost::dll::this_line_location().string();
-  return core.parent_path() / "suffuse" / "libsuffuse_petsc.so";
 }
 
 }  // namespace
@@ -48,20 +36,14 @@ std::unique_ptr<DistributedSystem> make_distributed_system(const Communicator& c
                                                            std::string prefix) {
   PetscModule& module = petsc_module();
   std::lock_guard lock(module.mutex);
-  if (!module.library) {
-    const auto path = petsc_module_path();
+  if (!module.make) {
     try {
-      boost::dll::shared_library library(path.string(), boost::dll::load_mode::rtld_now);
-      const std::string version = library.get<PetscModuleVersion>("suffuse_petsc_module_version")();
-      if (version != framework_version)
-        throw Error("it is suffuse " + version + "'s, this is suffuse " + framework_version);
-      module.make = &library.get<MakePetscSystem>("suffuse_make_petsc_system");
-      module.finalize = &library.get<FinalizePetsc>("suffuse_finalize_petsc");
-      module.library.emplace(std::move(library));
-    } catch (const std::exception& e) {
-      module.make = nullptr, module.finalize = nullptr;
-      throw Error(name + ": cannot load PETSc's module " + path.string() + " (" + e.what() +
-                  "); reinstall suffuse, or run the scene on one process");
+      const auto at = PluginLoader::load_module("libsuffuse_petsc.so", "PETSc module", "suffuse_petsc_module_version",
+                                                {"suffuse_make_petsc_system", "suffuse_finalize_petsc"});
+      module.make = reinterpret_cast<MakePetscSystem*>(at[0]);
+      module.finalize = reinterpret_cast<FinalizePetsc*>(at[1]);
+    } catch (const Error& e) {
+      throw Error(name + ": " + e.what() + "; reinstall suffuse, or run the scene on one process");
     }
   }
   return std::unique_ptr<DistributedSystem>(module.make(comm, name, prefix));

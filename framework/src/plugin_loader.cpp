@@ -8,8 +8,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <memory>
 
 #include "suffuse/error.hpp"
+#include "suffuse/version.hpp"
 
 namespace suffuse {
 
@@ -118,6 +120,27 @@ void PluginLoader::load_path(const fs::path& path) {
     load_library(path);
   } else {
     throw Error("plugin path " + path.string() + " does not exist");
+  }
+}
+
+std::vector<void*> PluginLoader::load_module(const std::string& file, const std::string& what,
+                                             const std::string& version_entry,
+                                             const std::vector<std::string>& entries) {
+  const fs::path path = bundled_plugin_directory().parent_path() / file;
+  try {
+    auto library = std::make_unique<boost::dll::shared_library>(path.string(), boost::dll::load_mode::rtld_now);
+    const std::string version = library->get<const char*()>(version_entry)();
+    if (version != framework_version)
+      throw Error("it is suffuse " + version + "'s, this is suffuse " + framework_version);
+    std::vector<void*> addresses;
+    for (const std::string& entry : entries) {
+      if (!library->has(entry)) throw Error("it has no " + entry);
+      addresses.push_back(reinterpret_cast<void*>(&library->get<void()>(entry)));
+    }
+    library.release();  // never unloaded
+    return addresses;
+  } catch (const std::exception& e) {
+    throw Error("cannot load the " + what + " " + path.string() + " (" + e.what() + ")");
   }
 }
 

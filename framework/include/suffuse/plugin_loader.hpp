@@ -40,6 +40,16 @@ class PluginLoader {
   static std::vector<std::filesystem::path> default_search_path();
   static std::filesystem::path bundled_plugin_directory();
 
+  // A module of this build: a library beside the bundled plugins' directory
+  // (<libdir>/suffuse/<file>) holding heavy libraries few runs need (PETSc,
+  // VTK), loaded where first needed and never unloaded (their clean-up at
+  // exit must find its code). It must export `version_entry`, a
+  // `const char*()` returning this suffuse's version (its entries take this
+  // build's types), and each of `entries`, whose addresses are returned in
+  // that order. Throws suffuse::Error "cannot load the <what> <path> (why)".
+  static std::vector<void*> load_module(const std::string& file, const std::string& what,
+                                        const std::string& version_entry, const std::vector<std::string>& entries);
+
   const std::vector<LoadedLibrary>& libraries() const { return libraries_; }
   // One message per file a directory scan skipped, naming the file and why.
   const std::vector<std::string>& warnings() const { return warnings_; }

@@ -5,8 +5,8 @@
 
 namespace suffuse {
 
-inline constexpr int abi_major = 13;
+inline constexpr int abi_major = 14;
 inline constexpr int abi_minor = 0;
-inline constexpr const char* framework_version = "0.13.0";
+inline constexpr const char* framework_version = "0.14.0";
 
 }  // namespace suffuse
