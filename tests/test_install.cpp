@@ -130,8 +130,9 @@ TEST(Install, TemplateLawBuildsAgainstTheInstalledPackageAndRuns) {
       << slurp(inst.root / "plot_without_module.log");
   EXPECT_EQ(sh(inst.program().string() + " --version", inst.root / "version.log"), 0);
   fs::rename(inst.root / "libsuffuse_figures.so", inst.prefix / "lib/suffuse/libsuffuse_figures.so");
-  // The VTK writers load VTK from their module on the first frame: without
-  // it the run stops there, naming the writer and the module.
+  // The VTK writers load VTK from their module when a run opens them:
+  // without it the run stops before its first step, naming the writer and
+  // the module (a restart opens them too, in Writer::resume).
   fs::rename(inst.prefix / "lib/suffuse/libsuffuse_vtk_files.so", inst.root / "libsuffuse_vtk_files.so");
   EXPECT_EQ(sh(inst.program().string() + " run " + (law / "first_order_box.json").string() + " --output " +
                    (law / "out_without_module").string(),

@@ -247,23 +247,24 @@ TEST(QuasiStatic, InertiaMakesAFreeFallTheSchemesOwn) {
 }
 
 // The elastic bar of share/scenes/elastic_bar.json (fixed at x = 0, free at
-// x = L, every point starting at v0), stepped with /time/inertia at 1.6
-// times the explicit stability limit. The reference is independent of MPM:
+// x = L, every point starting at v0), stepped with /time/inertia at twice
+// the explicit stability limit h / c. The reference is independent of MPM:
 // the bar's modes (omega_k = (2k - 1) pi c / 2L), each stepped by the same
 // backward Euler recurrence (q' = (q + dt v) / (1 + omega^2 dt^2), v' =
 // (q' - q) / dt), summed at the last point. Backward Euler shortens the
 // swing of each mode by 1 / sqrt(1 + omega^2 dt^2) per step, the higher
-// modes most: the first peak is 16% below the exact v0 L / c. Measured: the
-// bar within 0.53% of that peak of the reference over two periods (the
+// modes most: the first peak is 25% below the exact v0 L / c. Measured: the
+// bar within 0.32% of that peak of the reference over two periods (the
 // MPM's own error in space).
 TEST(QuasiStatic, InertiaSwingsAnElasticBarAsBackwardEulerSwingsItsModes) {
-  auto j = quasi_static(read_json(source_dir() / "share/scenes/elastic_bar.json"), 4e-4, 4e-4);
+  auto j = quasi_static(read_json(source_dir() / "share/scenes/elastic_bar.json"), 1e-3, 1e-3);
   j["time"]["inertia"] = true;
   j["time"]["end"] = 0.08;  // two periods
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
-  const double L = 1.0, v0 = 0.01, c = std::sqrt(1e7 / 1000.0), dt = 4e-4;
+  const double L = 1.0, v0 = 0.01, c = std::sqrt(1e7 / 1000.0), dt = 1e-3;
+  ASSERT_GE(dt, 2 * 0.05 / c) << "twice the explicit limit";
   const auto& pts = sim.points();
   std::size_t tip = 0;
   for (std::size_t p = 0; p < pts.size(); ++p)
@@ -292,11 +293,11 @@ TEST(QuasiStatic, InertiaSwingsAnElasticBarAsBackwardEulerSwingsItsModes) {
     peak = std::max(peak, u);
   };
   sim.run(options);
-  ASSERT_EQ(sim.steps(), 200u);
+  ASSERT_EQ(sim.steps(), 80u);
   const double u_max = v0 * L / c;  // the exact peak: the sum of the modes' swings
   EXPECT_LT(worst / u_max, 0.01) << "of the exact peak";
-  EXPECT_LT(peak / u_max, 0.9) << "backward Euler damps";
-  EXPECT_GT(peak / u_max, 0.8);
+  EXPECT_LT(peak / u_max, 0.8) << "backward Euler damps";
+  EXPECT_GT(peak / u_max, 0.7);
   RecordProperty("tip_error_over_peak", text(worst / u_max));
   RecordProperty("first_peak_over_exact", text(peak / u_max));
 }
@@ -330,7 +331,6 @@ TEST(QuasiStatic, InertiaCollapsesAColumnThatHasNoEquilibrium) {
   const auto reference = mean_displacement(explicit_run.points()), u = mean_displacement(sim.points());
   EXPECT_GT(reference[0], 0.005) << "m: the column spreads";
   for (int i = 0; i < 2; ++i) EXPECT_NEAR(u[i] / reference[i], 1.0, 0.03) << "axis " << i;
-  EXPECT_GE(sim.steps(), 20u);
   RecordProperty("across_over_explicit", text(u[0] / reference[0]));
   RecordProperty("down_over_explicit", text(u[1] / reference[1]));
   RecordProperty("explicit_steps", text(static_cast<double>(explicit_run.steps())));

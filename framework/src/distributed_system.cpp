@@ -1,7 +1,6 @@
 #include "distributed_system.hpp"
 
 #include "suffuse/error.hpp"
-#include "suffuse/version.hpp"
 
 #ifdef SUFFUSE_PETSC
 #include <mutex>

@@ -123,7 +123,7 @@ void PluginLoader::load_path(const fs::path& path) {
   }
 }
 
-std::vector<void*> PluginLoader::load_module(const std::string& file, const std::string& what,
+std::vector<PluginLoader::ModuleEntry> PluginLoader::load_module(const std::string& file, const std::string& what,
                                              const std::string& version_entry,
                                              const std::vector<std::string>& entries) {
   const fs::path path = bundled_plugin_directory().parent_path() / file;
@@ -132,10 +132,10 @@ std::vector<void*> PluginLoader::load_module(const std::string& file, const std:
     const std::string version = library->get<const char*()>(version_entry)();
     if (version != framework_version)
       throw Error("it is suffuse " + version + "'s, this is suffuse " + framework_version);
-    std::vector<void*> addresses;
+    std::vector<ModuleEntry> addresses;
     for (const std::string& entry : entries) {
       if (!library->has(entry)) throw Error("it has no " + entry);
-      addresses.push_back(reinterpret_cast<void*>(&library->get<void()>(entry)));
+      addresses.push_back(&library->get<void()>(entry));
     }
     library.release();  // never unloaded
     return addresses;

@@ -371,7 +371,7 @@ double QuasiStatic::evaluate(double dt) {
   }
   sum_over_processes(f_int);
   if (mixture_) sum_over_processes(r_p);
-  double r2 = 0, f2 = 0, i2 = 0;
+  double r2 = 0, f2 = 0, i2 = 0, a2 = 0;
   for (std::size_t I = 0; I < nn; ++I)
     for (int i = 0; i < dim; ++i) {
       const std::size_t k = I * dim + i;
@@ -380,13 +380,17 @@ double QuasiStatic::evaluate(double dt) {
       i2 += f_int[k] * f_int[k];
       if (u_dof_[k] < 0) continue;
       double r = f_ext_[k] - f_int[k] - creep_[k] * du_[k];
-      if (!inertia_.empty()) r -= inertia_[k] * (du_[k] - inertia_target_[k]);
+      if (!inertia_.empty()) {
+        const double inertial = inertia_[k] * (du_[k] - inertia_target_[k]);
+        r -= inertial;
+        a2 += inertial * inertial;  // a body in flight: its inertia is the force acting
+      }
       residual_[static_cast<std::size_t>(u_dof_[k])] = r;
       r2 += r * r;
     }
   for (std::size_t I = 0; I < nn; ++I)
     if (p_dof_[I] >= 0) residual_[static_cast<std::size_t>(p_dof_[I])] = -r_p[I];
-  force_scale_ = std::sqrt(std::max(f2, i2));
+  force_scale_ = std::sqrt(std::max({f2, i2, a2}));
   return std::sqrt(r2);
 }
 

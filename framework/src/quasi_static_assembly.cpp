@@ -253,11 +253,7 @@ void QuasiStatic::assemble(double dt) {
   // a step would be a defect of this code, not of the scene.
   if (in_place && entry != L.value_at.size())
     throw Error("internal error: the quasi-static matrix changed its pattern within a step; please report the scene");
-  if (distributed) {  // each process adds its points' blocks, and the first the nodes' own terms
-    if (d_.comm.root())
-      for (std::size_t k = 0; k < u_dof_.size(); ++k)
-        if (u_dof_[k] >= 0 && own_diagonal(k) != 0)
-          t.emplace_back(static_cast<int>(u_dof_[k]), static_cast<int>(u_dof_[k]), own_diagonal(k));
+  if (distributed) {  // each process adds its points' blocks, and the nodes' own terms of the rows it holds
     DistributedSystem& system = *L.distributed;
     if (!L.distributed_started) {
       system.start(equations_);
@@ -265,6 +261,13 @@ void QuasiStatic::assemble(double dt) {
       L.distributed_started = true;
     } else {
       system.restart();
+    }
+    const auto [first, last] = system.rows();
+    for (std::size_t k = 0; k < u_dof_.size(); ++k) {
+      const std::int64_t row = u_dof_[k];
+      if (row >= 0 && static_cast<std::size_t>(row) >= first && static_cast<std::size_t>(row) < last &&
+          own_diagonal(k) != 0)
+        t.emplace_back(static_cast<int>(row), static_cast<int>(row), own_diagonal(k));
     }
     system.add(t, stencil_slots_ * static_cast<std::size_t>(w));
     system.finish(true);

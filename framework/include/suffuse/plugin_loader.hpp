@@ -46,8 +46,10 @@ class PluginLoader {
   // exit must find its code). It must export `version_entry`, a
   // `const char*()` returning this suffuse's version (its entries take this
   // build's types), and each of `entries`, whose addresses are returned in
-  // that order. Throws suffuse::Error "cannot load the <what> <path> (why)".
-  static std::vector<void*> load_module(const std::string& file, const std::string& what,
+  // that order (cast each back to its own type). Throws suffuse::Error
+  // "cannot load the <what> <path> (why)".
+  using ModuleEntry = void (*)();
+  static std::vector<ModuleEntry> load_module(const std::string& file, const std::string& what,
                                         const std::string& version_entry, const std::vector<std::string>& entries);
 
   const std::vector<LoadedLibrary>& libraries() const { return libraries_; }

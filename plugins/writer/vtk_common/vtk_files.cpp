@@ -1,5 +1,5 @@
 // The VTK module of the writers (vtk_files.hpp): the only code of a run
-// that links VTK, loaded on the first frame a VTK writer writes.
+// that links VTK, loaded when a VTK writer opens its series.
 #include "vtk_files.hpp"
 
 #include <vtkCellArray.h>
@@ -61,7 +61,7 @@ vtkSmartPointer<vtkDoubleArray> make_array(const suffuse::vtk::Array& a, int dim
     array->SetNumberOfTuples(static_cast<vtkIdType>(n));
     for (std::size_t p = 0; p < n; ++p) array->SetValue(static_cast<vtkIdType>(p), v[p]);
   }
-  if (!a.unit.empty()) array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), a.unit.c_str());
+  if (a.with_unit) array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), a.unit.c_str());
   return array;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // What the VTK writers share: the numbered frame files of a series
 // (resumable after a restart), and the writing of a frame's arrays as VTK
-// XML. VTK itself sits in a module loaded on the first frame written
+// XML. VTK itself sits in a module loaded when a writer opens its series
 // (vtk_files.cpp): linked into the plugins, its libraries would cost every
 // run about 9 MB resident (the loader opens every plugin library to list
 // what it holds), 90 bytes per point of the 2D benches.
@@ -23,7 +23,8 @@ struct Array {
   FieldKind kind = FieldKind::Scalar;
   std::size_t tuples = 0;
   const double* values = nullptr;
-  std::string unit;  // empty: none (suffuse plot reads it for its labels)
+  std::string unit;        // suffuse plot reads it for its labels
+  bool with_unit = false;  // written, even when empty (the points' arrays)
 };
 
 // Material points as vertices of a .vtp (PolyData).
@@ -48,6 +49,9 @@ struct ImageFrame {
 void write_points(const PointsFrame& frame, const std::filesystem::path& file, bool compress,
                   const std::string& plugin);
 void write_image(const ImageFrame& frame, const std::filesystem::path& file, bool compress, const std::string& plugin);
+// Loads the module now, if it is not yet (a writer's open and resume: a
+// missing module then stops a run or a restart before its first step).
+void load_module(const std::string& plugin);
 
 // The frame files <basename>_NNNNNN.<extension> of one writer.
 class FrameFiles {
@@ -72,8 +76,8 @@ class FrameFiles {
 };
 
 // The module's entry points, by name (vtk_files.cpp), and the suffuse
-// version it was built with: a module of another build is refused (the
-// types above are this build's).
+// version it was built with: a module of another version is refused (the
+// types above are this version's).
 using WritePoints = void(const PointsFrame&, const std::filesystem::path&, bool, const std::string&);
 using WriteImage = void(const ImageFrame&, const std::filesystem::path&, bool, const std::string&);
 using ModuleVersion = const char*();

@@ -1,5 +1,5 @@
 // The writers' side of vtk_files.hpp: the frame files, and the VTK module
-// loaded on the first frame written.
+// loaded when a writer opens its series.
 #include <iomanip>
 #include <sstream>
 #include <suffuse/error.hpp>
@@ -18,7 +18,7 @@ struct Entries {
   WriteImage* image;
 };
 
-// Loaded on the first frame a VTK writer writes (PluginLoader::load_module).
+// Loaded when a VTK writer opens its series (PluginLoader::load_module).
 const Entries& module(const std::string& plugin) {
   static const Entries entries = [&plugin] {
     try {
@@ -33,6 +33,8 @@ const Entries& module(const std::string& plugin) {
 }
 
 }  // namespace
+
+void load_module(const std::string& plugin) { module(plugin); }
 
 void write_points(const PointsFrame& frame, const fs::path& file, bool compress, const std::string& plugin) {
   module(plugin).points(frame, file, compress, plugin);

@@ -41,9 +41,11 @@ class VtkGrid final : public suffuse::Writer {
 
   bool wants_grid_fields() const override { return true; }
   void open(const fs::path& directory, const std::string& basename) override {
+    suffuse::vtk::load_module("writer/vtk_grid");
     files_.open(directory, basename + "_grid");
   }
   void resume(const fs::path& directory, const std::string& basename, const suffuse::ResumePoint& at) override {
+    suffuse::vtk::load_module("writer/vtk_grid");
     files_.resume(directory, basename + "_grid", at);
   }
 
@@ -61,7 +63,8 @@ class VtkGrid final : public suffuse::Writer {
       const FieldKind kind = f.components == 1 ? FieldKind::Scalar : FieldKind::Vector;
       image.node_arrays.push_back({f.name, kind, g.node_count(), f.values.data(), {}});
     }
-    add_cell_averages(frame, image);
+    std::vector<std::vector<double>> cell_values;  // the cell arrays' values, until written
+    add_cell_averages(frame, image, cell_values);
     suffuse::vtk::write_image(image, files_.next_path(), compress_, "writer/vtk_grid");
     files_.written(frame.series, frame.time);
   }
@@ -85,8 +88,9 @@ class VtkGrid final : public suffuse::Writer {
   }
 
   // Appends the point count and the averages of the cell fields to the
-  // image's cell arrays, held in cell_values_ until the frame is written.
-  void add_cell_averages(const suffuse::OutputFrame& frame, suffuse::vtk::ImageFrame& image) {
+  // image's cell arrays, their values held in `values`.
+  void add_cell_averages(const suffuse::OutputFrame& frame, suffuse::vtk::ImageFrame& image,
+                         std::vector<std::vector<double>>& values) {
     const suffuse::PointSet& pts = frame.points;
     const suffuse::GridGeometry& g = frame.grid;
     const int dim = g.dim();
@@ -97,9 +101,9 @@ class VtkGrid final : public suffuse::Writer {
     if (names.empty())
       for (const std::string& name : default_cell_fields)
         if (pts.find(name)) names.push_back(name);
-    cell_values_.resize(names.size() + 1);
+    values.resize(names.size() + 1);
     const double* volume = pts.data(pts.core().volume);
-    std::vector<double>& count = cell_values_[0];
+    std::vector<double>& count = values[0];
     count.assign(cells, 0.0);
     std::vector<double> weight(cells, 0.0);
     for (std::size_t p = 0; p < pts.size(); ++p) {
@@ -115,7 +119,7 @@ class VtkGrid final : public suffuse::Writer {
                              "' is a full tensor; cell averages are of scalars, vectors and symmetric tensors");
       const int k = pts.components(f);
       const double* v = pts.data(f);
-      std::vector<double>& mean = cell_values_[i + 1];
+      std::vector<double>& mean = values[i + 1];
       mean.assign(cells * k, 0.0);
       for (std::size_t p = 0; p < pts.size(); ++p)
         for (int c = 0; c < k; ++c) mean[cell_of_[p] * k + c] += volume[p] * v[p * k + c];
@@ -129,7 +133,6 @@ class VtkGrid final : public suffuse::Writer {
   bool compress_;
   suffuse::vtk::FrameFiles files_{"vti"};
   std::vector<std::size_t> cell_of_;
-  std::vector<std::vector<double>> cell_values_;  // point count, then each cell field
 };
 
 }  // namespace

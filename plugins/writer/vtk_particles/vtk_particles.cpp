@@ -17,8 +17,12 @@ class VtkParticles final : public suffuse::Writer {
   }
   explicit VtkParticles(const suffuse::PluginArgs& args) : compress_(args.params.boolean("compress")) {}
 
-  void open(const fs::path& directory, const std::string& basename) override { files_.open(directory, basename); }
+  void open(const fs::path& directory, const std::string& basename) override {
+    suffuse::vtk::load_module("writer/vtk_particles");
+    files_.open(directory, basename);
+  }
   void resume(const fs::path& directory, const std::string& basename, const suffuse::ResumePoint& at) override {
+    suffuse::vtk::load_module("writer/vtk_particles");
     files_.resume(directory, basename, at);
   }
 
@@ -30,7 +34,7 @@ class VtkParticles final : public suffuse::Writer {
     out.positions = pts.data(pts.core().position);
     for (suffuse::FieldId f = 0; f < pts.field_count(); ++f) {
       const suffuse::FieldInfo& info = pts.info(f);
-      if (info.output) out.arrays.push_back({info.name, info.kind, pts.size(), pts.data(f), info.unit});
+      if (info.output) out.arrays.push_back({info.name, info.kind, pts.size(), pts.data(f), info.unit, true});
     }
     suffuse::vtk::write_points(out, files_.next_path(), compress_, "writer/vtk_particles");
     files_.written(frame.series, frame.time);
