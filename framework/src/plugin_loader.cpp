@@ -9,6 +9,7 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <mutex>
 
 #include "suffuse/error.hpp"
 #include "suffuse/version.hpp"
@@ -137,7 +138,11 @@ std::vector<PluginLoader::ModuleEntry> PluginLoader::load_module(const std::stri
       if (!library->has(entry)) throw Error("it has no " + entry);
       addresses.push_back(&library->get<void()>(entry));
     }
-    library.release();  // never unloaded
+    // Never unloaded; held where the leak checker sees it (the process keeps it).
+    static std::mutex mutex;
+    static auto* kept = new std::vector<std::unique_ptr<boost::dll::shared_library>>;
+    const std::lock_guard lock(mutex);
+    kept->push_back(std::move(library));
     return addresses;
   } catch (const std::exception& e) {
     throw Error("cannot load the " + what + " " + path.string() + " (" + e.what() + ")");
