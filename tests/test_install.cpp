@@ -3,6 +3,7 @@
 // against the installed CMake package only, run a scene naming the law, and
 // check the result, and that nothing of the installed suffuse was rebuilt.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -140,7 +141,34 @@ TEST(Install, TemplateLawBuildsAgainstTheInstalledPackageAndRuns) {
             1);
   const std::string without = slurp(inst.root / "run_without_module.log");
   EXPECT_NE(without.find("writer/vtk_particles: cannot load the VTK module"), std::string::npos) << without;
+  EXPECT_FALSE(fs::exists(law / "out_without_module/first_order_box.pvd")) << "nothing written before the first step";
+  // A restart, extending the first run to a later end: it stops before its
+  // first step too (the writers resume), and leaves the first run's series
+  // and checkpoint as they were.
+  const std::string original_scene = slurp(law / "first_order_box.json");
+  auto longer = nlohmann::json::parse(original_scene);
+  longer["time"]["end"] = 2.0;
+  std::ofstream(law / "first_order_box.json") << longer.dump(2);
+  const auto series_size = fs::file_size(law / "out/first_order_box.pvd");
+  const auto checkpoint_size = fs::file_size(law / "out/first_order_box.checkpoint");
+  EXPECT_EQ(sh(inst.program().string() + " run " + (law / "first_order_box.json").string() + " --output " +
+                   (law / "out").string() + " --restart " + (law / "out/first_order_box.checkpoint").string(),
+               inst.root / "restart_without_module.log"),
+            1);
+  const std::string restart = slurp(inst.root / "restart_without_module.log");
+  EXPECT_NE(restart.find("writer/vtk_particles: cannot load the VTK module"), std::string::npos) << restart;
+  EXPECT_EQ(fs::file_size(law / "out/first_order_box.pvd"), series_size);
+  EXPECT_EQ(fs::file_size(law / "out/first_order_box.checkpoint"), checkpoint_size);
   fs::rename(inst.root / "libsuffuse_vtk_files.so", inst.prefix / "lib/suffuse/libsuffuse_vtk_files.so");
+  // With the module back the same restart runs to the later end.
+  EXPECT_EQ(sh(inst.program().string() + " run " + (law / "first_order_box.json").string() + " --output " +
+                   (law / "out").string() + " --restart " + (law / "out/first_order_box.checkpoint").string(),
+               inst.root / "restart.log"),
+            0)
+      << slurp(inst.root / "restart.log");
+  EXPECT_NE(slurp(law / "out/first_order_box.pvd").find("timestep=\"2"), std::string::npos)
+      << slurp(law / "out/first_order_box.pvd");
+  std::ofstream(law / "first_order_box.json") << original_scene;
 
   // suffuse plugins lists it with its library; describe prints its parameters.
   const std::string with_law = "SUFFUSE_PLUGIN_PATH=" + (law / "build").string() + " ";

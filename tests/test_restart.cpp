@@ -4,6 +4,8 @@
 // past the end time are refused with a message.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -161,6 +163,44 @@ TEST_F(RestartRefused, AnotherScene) {
   j["time"]["end"] = 0.1;
   j["bodies"][0]["porosity"] = 0.35;
   EXPECT_NE(restart_error(j, checkpoint_).find("written by a run of another scene"), std::string::npos);
+}
+
+// The same scene written by another tool: keys in another order, whole
+// numbers without a decimal point (as jq writes them). Not another scene.
+nlohmann::ordered_json rewritten(const nlohmann::json& j) {
+  if (j.is_object()) {
+    nlohmann::ordered_json object = nlohmann::ordered_json::object();
+    std::vector<std::string> keys;
+    for (const auto& [key, value] : j.items()) keys.push_back(key);
+    for (auto k = keys.rbegin(); k != keys.rend(); ++k) object[*k] = rewritten(j[*k]);
+    return object;
+  }
+  if (j.is_array()) {
+    nlohmann::ordered_json array = nlohmann::ordered_json::array();
+    for (const auto& value : j) array.push_back(rewritten(value));
+    return array;
+  }
+  if (j.is_number_float() && j.get<double>() == std::trunc(j.get<double>()) && std::abs(j.get<double>()) < 1e15)
+    return static_cast<std::int64_t>(j.get<double>());
+  return j;
+}
+
+TEST_F(RestartRefused, NotForTheSameSceneRewrittenByAnotherTool) {
+  auto j = j_;
+  j["time"]["end"] = 0.1;
+  const nlohmann::ordered_json text = rewritten(j);
+  ASSERT_NE(text.dump().find("\"density\":1000,"), std::string::npos) << "whole numbers written as integers";
+  ASSERT_NE(text.dump().substr(0, 12), nlohmann::json(j).dump().substr(0, 12)) << "keys in another order";
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  suffuse::Scene scene = suffuse::parse_scene(text.dump(2), "test.json", suffuse::test::source_dir(), registry, loader);
+  scene.name = "column";
+  suffuse::Simulation sim(scene, registry, 1);
+  suffuse::RunOptions options;
+  options.output_dir = dir_;
+  options.restart = checkpoint_;
+  sim.run(options);
+  EXPECT_NEAR(sim.time(), 0.1, 1e-12) << "continued to the later end";
 }
 
 TEST_F(RestartRefused, AtOrPastTheEndTime) {

@@ -115,14 +115,32 @@ PluginNode SceneReader::plugin_node(const Json& node, const std::string& ptr, Pl
 
 namespace {
 
-// FNV-1a of the scene's canonical JSON (keys sorted) without what a restart
-// may change.
+// The scene as its values: keys sorted and every number a double, so that
+// a file rewritten by another tool (jq writes 1.0e7 as 10000000, Python's
+// json sorts keys) keeps its fingerprint. The scene itself keeps the file's
+// order (Json), for messages.
+nlohmann::json canonical(const Json& j) {
+  if (j.is_object()) {
+    nlohmann::json object = nlohmann::json::object();  // a std::map: sorted
+    for (const auto& [key, value] : j.items()) object[key] = canonical(value);
+    return object;
+  }
+  if (j.is_array()) {
+    nlohmann::json array = nlohmann::json::array();
+    for (const auto& value : j) array.push_back(canonical(value));
+    return array;
+  }
+  if (j.is_number()) return j.get<double>();
+  return j;
+}
+
+// FNV-1a of the scene's canonical JSON without what a restart may change.
 std::string fingerprint_of(Json root) {
   root.erase("description");
   if (root.contains("time") && root["time"].is_object())
     for (const char* key : {"end", "checkpoint_interval", "checkpoint_at_end"}) root["time"].erase(key);
   char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(root.dump())));
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(canonical(root).dump())));
   return hex;
 }
 
