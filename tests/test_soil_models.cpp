@@ -34,7 +34,9 @@ struct OnePoint {
     loader.load_path(suffuse::PluginLoader::bundled_plugin_directory());
     std::map<std::string, suffuse::ParamValue> values;
     for (const auto& [k, v] : params.items())
-      values[k] = v.is_boolean() ? suffuse::ParamValue(v.get<bool>()) : suffuse::ParamValue(v.get<double>());
+      values[k] = v.is_boolean()  ? suffuse::ParamValue(v.get<bool>())
+                  : v.is_string() ? suffuse::ParamValue(v.get<std::string>())
+                                  : suffuse::ParamValue(v.get<double>());
     const suffuse::Parameters p = registry.find(type)->schema().complete(values);
     phase = registry.create<suffuse::Phase>(type, {p, dim, "/materials/soil"});
     phase->add_fields(points);
@@ -129,7 +131,52 @@ ElementRows element_test(const nlohmann::json& material, double p0, const nlohma
 const nlohmann::json sand = {{"density", 2000.0}, {"youngs_modulus", 2e7}, {"poisson_ratio", 0.3},
                              {"friction_angle", 30.0}, {"cohesion", 5e3}, {"dilatancy_angle", 10.0}};
 
-// phase/linear_elastic's tension cut-off: a point whose elastic stress has a
+// Eigenvalues of a symmetric 3x3 given in Voigt order, ascending.
+Eigen::Vector3d principal(const double* v) {
+  Eigen::Matrix3d m;
+  const auto M = suffuse::tensor::to_matrix(v);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(i, j) = M[i][j];
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues();
+}
+
+// A state and a strain increment for the tension cut-off's tests, case c
+// (strain increments of `strain` at most): random compressive states; every
+// fifth shifted so that its largest principal stress is near zero, with no
+// increment (the state itself decides); one in fifty uniaxial, the largest
+// principal stress exactly 0; two in five nearly uniaxial, rotated:
+// principal stresses -1e5, -1e-4 |u| and +-1e-4 (where a 3x3 determinant's
+// round-off exceeds the product of the two small ones), in 3D or in the
+// plane (szz principal).
+std::pair<std::array<double, 6>, std::array<double, 6>> cut_off_case(int c, double strain, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::array<double, 6> s0{}, de{};
+  for (int k = 0; k < 6; ++k) s0[k] = k < 3 ? 1e5 * (u(rng) - 1.2) : 5e4 * u(rng);
+  for (auto& v : de) v = strain * u(rng);
+  if (c % 5 == 0) {
+    de = {};
+    const double top = principal(s0.data())(2);
+    for (int a = 0; a < 3; ++a) s0[a] -= top + 0.1 * u(rng);
+  }
+  if (c % 50 == 1) s0 = {-1e5 * std::abs(u(rng)), 0, 0, 0, 0, 0}, de = {};
+  if (c % 5 == 2 || c % 5 == 3) {
+    const Eigen::Quaterniond q = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
+    const bool plane = c % 5 == 3;
+    const Eigen::Matrix3d R = plane ? Eigen::AngleAxisd(3.2 * u(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix()
+                                    : q.toRotationMatrix();
+    const double small = 1e-4 * (u(rng) > 0 ? 1.0 : -1.0);
+    const Eigen::Vector3d p = plane ? Eigen::Vector3d(-1e5, small, -1e-4 * std::abs(u(rng)))
+                                    : Eigen::Vector3d(-1e5, -1e-4 * std::abs(u(rng)), small);
+    const Eigen::Matrix3d m = R * p.asDiagonal() * R.transpose();
+    s0 = {m(0, 0), m(1, 1), m(2, 2), m(1, 2), m(0, 2), m(0, 1)};
+    if (plane) s0[3] = s0[4] = 0;
+    de = {};
+  }
+  return {s0, de};
+}
+
+// phase/linear_elastic's tension cut-off, separation "point" (the default):
+// a point whose elastic stress has a
 // tensile principal value carries nothing, any other keeps Hooke's stress.
 // Against an eigensolver on 20,000 random increments from random states:
 // a fifth near the boundary (the largest principal stress within 1e-6 of the
@@ -141,38 +188,9 @@ TEST(LinearElastic, TensionCutOffSeparatesExactlyTheTensileStates) {
                {{"density", 2000.0}, {"youngs_modulus", 1e7}, {"poisson_ratio", 0.3}, {"tension_cutoff", true}});
   OnePoint hooke("phase/linear_elastic", {{"density", 2000.0}, {"youngs_modulus", 1e7}, {"poisson_ratio", 0.3}});
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-1, 1);
   int separated = 0, kept = 0;
   for (int c = 0; c < 20000; ++c) {
-    std::array<double, 6> s0{}, de{};
-    for (int k = 0; k < 6; ++k) s0[k] = k < 3 ? 1e5 * (u(rng) - 1.2) : 5e4 * u(rng);
-    for (auto& v : de) v = 1e-3 * u(rng);
-    if (c % 5 == 0) de = {};  // the state itself decides
-    if (c % 5 == 0) {  // shift the state so that its largest principal stress is near zero
-      Eigen::Matrix3d m;
-      const auto M = suffuse::tensor::to_matrix(s0.data());
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) m(i, j) = M[i][j];
-      const double top = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()(2);
-      for (int a = 0; a < 3; ++a) s0[a] -= top + 0.1 * u(rng);
-    }
-    if (c % 50 == 1) s0 = {-1e5 * std::abs(u(rng)), 0, 0, 0, 0, 0}, de = {};  // uniaxial: largest principal exactly 0
-    if (c % 5 == 2 || c % 5 == 3) {
-      // Nearly uniaxial, rotated: principal stresses -1e5, -1e-4 |u| and
-      // +-1e-4 (where a 3x3 determinant's round-off exceeds the product of
-      // the two small ones), in 3D or in the plane (szz principal).
-      const Eigen::Quaterniond q = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
-      const bool plane = c % 5 == 3;
-      const Eigen::Matrix3d R = plane ? Eigen::AngleAxisd(3.2 * u(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix()
-                                      : q.toRotationMatrix();
-      const double small = 1e-4 * (u(rng) > 0 ? 1.0 : -1.0);
-      const Eigen::Vector3d principal = plane ? Eigen::Vector3d(-1e5, small, -1e-4 * std::abs(u(rng)))
-                                              : Eigen::Vector3d(-1e5, -1e-4 * std::abs(u(rng)), small);
-      const Eigen::Matrix3d m = R * principal.asDiagonal() * R.transpose();
-      s0 = {m(0, 0), m(1, 1), m(2, 2), m(1, 2), m(0, 2), m(0, 1)};
-      if (plane) s0[3] = s0[4] = 0;
-      de = {};
-    }
+    auto [s0, de] = cut_off_case(c, 1e-3, rng);
     std::copy(s0.begin(), s0.end(), cut.stress());
     std::copy(s0.begin(), s0.end(), hooke.stress());
     cut.strain(de);
@@ -198,6 +216,126 @@ TEST(LinearElastic, TensionCutOffSeparatesExactlyTheTensileStates) {
   }
   EXPECT_GT(separated, 3000);
   EXPECT_GT(kept, 10000);
+}
+
+
+// phase/linear_elastic's tension cut-off, separation "planes" (Rankine, no
+// tensile strength, a perfectly plastic return): a state whose elastic trial has no tensile
+// principal stress keeps Hooke's stress exactly; any other goes to the
+// closest tension-free state in the energy norm. That projection is checked
+// by its own conditions, not by the plugin's formulas: the stress has no
+// tensile principal value, the plastic strain C (s_trial - s) has no
+// negative one, and the two are orthogonal (the strain opens only planes
+// that carry no stress). On 20,000 random increments from random states: a
+// fifth near the boundary (the largest principal stress within 1e-6 of the
+// stresses' scale), two fifths nearly uniaxial (two principal stresses 1e9
+// times smaller than the third, one of them tensile or not), and uniaxial
+// states with exact zeros; the returns reach the plane, the edge and the
+// apex (no stress at all).
+TEST(LinearElastic, TensionCutOffReturnsToTheClosestTensionFreeState) {
+  const double E = 1e7, nu = 0.3, G = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  OnePoint cut("phase/linear_elastic", {{"density", 2000.0}, {"youngs_modulus", E}, {"poisson_ratio", nu}, {"tension_cutoff", true}, {"separation", std::string("planes")}});
+  OnePoint hooke("phase/linear_elastic", {{"density", 2000.0}, {"youngs_modulus", E}, {"poisson_ratio", nu}});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int kept = 0, plane = 0, edge = 0, apex = 0;
+  for (int c = 0; c < 20000; ++c) {
+    auto [s0, de] = cut_off_case(c, 1e-2, rng);
+    if (c % 10 == 4) {  // pulled apart in two or three directions: edges and apices
+      const double third = c % 20 == 4 ? 1e-2 : -1e-2;
+      de = {1e-2 * (1 + u(rng)), 1e-2 * (1 + u(rng)), third * (1 + u(rng)), 1e-3 * u(rng), 1e-3 * u(rng), 1e-3 * u(rng)};
+    }
+    std::copy(s0.begin(), s0.end(), cut.stress());
+    std::copy(s0.begin(), s0.end(), hooke.stress());
+    cut.strain(de);
+    hooke.strain(de);
+    const double* s = cut.stress();
+    const double* trial = hooke.stress();
+    const double top = principal(trial)(2);
+    double scale = 0;
+    for (int k = 0; k < 6; ++k) scale = std::max(scale, std::abs(trial[k]));
+    if (c % 50 == 1) {
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(s[k], trial[k]) << "case " << c << ": a uniaxial compression was cut";
+      continue;
+    }
+    // Within the eigensolver's round-off of the boundary either answer is right.
+    if (std::abs(top) < 1e-10 * scale + 1e-300) continue;
+    if (top < 0) {
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(s[k], trial[k]) << "case " << c << ", component " << k;
+      ++kept;
+      continue;
+    }
+    // The plastic strain (tensor components) C (trial - s), C Hooke's compliance.
+    std::array<double, 6> ds{}, ep{};
+    for (int k = 0; k < 6; ++k) ds[k] = trial[k] - s[k];
+    const double tr = ds[0] + ds[1] + ds[2];
+    for (int k = 0; k < 6; ++k) ep[k] = (ds[k] - (k < 3 ? lambda / (3 * lambda + 2 * G) * tr : 0.0)) / (2 * G);
+    const Eigen::Vector3d sp = principal(s), epp = principal(ep.data());
+    // Tolerances: relative, and the plastic strain's round-off (that of
+    // stresses of the trial's scale) where it is nearly nothing.
+    const double ep_size = epp.cwiseAbs().maxCoeff() + 1e-3 * scale / (2 * G);
+    double work = 0;
+    for (int k = 0; k < 6; ++k) work += (k < 3 ? 1.0 : 2.0) * s[k] * ep[k];
+    EXPECT_LE(sp(2), 1e-9 * scale) << "case " << c << ": a tensile principal stress remains";
+    EXPECT_GE(epp(0), -1e-9 * ep_size) << "case " << c << ": the plastic strain closes a plane";
+    EXPECT_LE(std::abs(work), 1e-9 * ep_size * scale) << "case " << c << ": the plastic strain works";
+    const int zeros = (std::abs(sp(0)) <= 1e-9 * scale) + (std::abs(sp(1)) <= 1e-9 * scale) + (std::abs(sp(2)) <= 1e-9 * scale);
+    (zeros == 3 ? apex : zeros == 2 ? edge : plane) += 1;
+    if (zeros == 3) {
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(s[k], 0.0) << "case " << c << ": the apex is exactly no stress";
+    }
+  }
+  EXPECT_GT(kept, 5000);
+  EXPECT_GT(plane, 1000);
+  EXPECT_GT(edge, 300);
+  EXPECT_GT(apex, 100);
+  RecordProperty("kept_plane_edge_apex", std::to_string(kept) + " " + std::to_string(plane) + " " +
+                                             std::to_string(edge) + " " + std::to_string(apex));
+}
+
+// The cut-off in closed form: a column of soil at rest (sigma_xx = -a,
+// sigma_yy = -b, sigma_zz = -c) pulled apart horizontally by e, more than
+// its lateral stress allows: sigma_xx is zero, and the others keep their
+// stress with the lateral effect of only the part of e that the soil took
+// elastically, a / (lambda + 2G): sigma_yy = -b + lambda a / (lambda + 2G).
+// Pulled apart in x and y, only sigma_zz remains, from the two-plane
+// return's closed form.
+TEST(LinearElastic, TensionCutOffInClosedForm) {
+  const double E = 1e7, nu = 0.25, G = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  const double M = lambda + 2 * G;
+  OnePoint point("phase/linear_elastic", {{"density", 2000.0}, {"youngs_modulus", E}, {"poisson_ratio", nu}, {"tension_cutoff", true}, {"separation", std::string("planes")}}, 2);
+  const double a = 3e3, b = 6e3, c = 3e3, e = 1e-3;
+  const std::array<double, 6> rest = {-a, -b, -c, 0, 0, 0};
+  std::copy(rest.begin(), rest.end(), point.stress());
+  double* L = point.points.data(point.points.core().velocity_gradient);
+  L[0] = e, L[1] = L[2] = L[3] = 0;
+  point.phase->update_stress(suffuse::StressBatch{point.points, {0, 1}, 1.0, {}});
+  EXPECT_EQ(point.stress()[0], 0.0);
+  EXPECT_NEAR(point.stress()[1], -b + lambda * a / M, 1e-9 * b);
+  EXPECT_NEAR(point.stress()[2], -c + lambda * a / M, 1e-9 * b);
+  // The tangent there: no stiffness against pulling x, Hooke's against y
+  // and z with x's stress held at zero, and the shear across the separated
+  // plane the share of the return: |s_yy| / (2 G d_gamma + |s_yy|), d_gamma
+  // = s_xx_trial / M.
+  std::vector<double> D(36);
+  point.phase->tangent(suffuse::StressBatch{point.points, {0, 1}, 1.0, {}}, D);
+  EXPECT_NEAR(D[0], 0.0, 1e-9 * M);
+  EXPECT_NEAR(D[7], M - lambda * lambda / M, 1e-9 * M);
+  EXPECT_NEAR(D[8], lambda - lambda * lambda / M, 1e-9 * M);
+  const double syy = b - lambda * a / M, dgamma = (-a + M * e) / M;
+  EXPECT_NEAR(D[35], G * syy / (2 * G * dgamma + syy), 1e-9 * G);
+  // Pulled apart in x and y: the edge. Trial s_x = -a + M e, s_y = -b + lambda e.
+  std::copy(rest.begin(), rest.end(), point.stress());
+  const double ey = 2e-3;
+  L[0] = e, L[3] = ey;
+  point.phase->update_stress(suffuse::StressBatch{point.points, {0, 1}, 1.0, {}});
+  const double sx = -a + M * e + lambda * ey, sy = -b + lambda * e + M * ey, sz = -c + lambda * (e + ey);
+  const double det = M * M - lambda * lambda, ga = (M * sx - lambda * sy) / det, gb = (M * sy - lambda * sx) / det;
+  ASSERT_GT(sx, 0);
+  ASSERT_GT(sy - lambda * sx / M, 0) << "the edge, not the plane";
+  EXPECT_NEAR(point.stress()[0], 0.0, 1e-12 * b);
+  EXPECT_NEAR(point.stress()[1], 0.0, 1e-12 * b);
+  EXPECT_NEAR(point.stress()[2], std::min(sz - lambda * (ga + gb), 0.0), 1e-9 * b);
 }
 
 // Drained triaxial compression and extension at a cell pressure of 100 kPa:

@@ -180,16 +180,20 @@ void QuasiStatic::assemble(double dt) {
   const double* K = mixture_ ? pts.data(mixture_->fields().conductivity) : nullptr;
   const double* rho_w = mixture_ ? pts.data(mixture_->fields().water_density) : nullptr;
   linear_->symmetric = symmetric_tangents(tangent_);
-  // The creep term, from the points without stiffness at this iterate (a
-  // separated cohesionless point): eps V M |grad N|^2 on the diagonal of
-  // their nodes' displacements. Elsewhere none: a stiffness on every node
-  // would stiffen a long column's softest modes by far more than eps.
+  // The creep term, from the points without stiffness at this iterate, or
+  // without it in some direction (a cohesionless point separated across a
+  // plane: coupling::separated_directions): eps V M |grad N|^2 on the
+  // diagonal of their nodes' displacements. Elsewhere none: a stiffness on
+  // every node would stiffen a long column's softest modes by far more than
+  // eps.
   std::fill(creep_.begin(), creep_.end(), 0.0);
   const bool distributed = linear_->distributed != nullptr;
   const double* material = pts.data(pts.core().material_id);
+  const auto separated_field = pts.find(coupling::separated_directions);
+  const double* separated = separated_field ? pts.data(*separated_field) : nullptr;
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const double* D = &tangent_[p * 36];
-    if (!without_stiffness(D)) continue;
+    if (!without_stiffness(D) && !(separated && separated[p] > 0)) continue;
     const double creep = scene_.quasi_static.creep * V[p] * modulus_[static_cast<std::size_t>(material[p])];
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k = p * s.npp + a;

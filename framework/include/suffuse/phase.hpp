@@ -46,6 +46,11 @@ inline constexpr const char* fines_content = "fines_content";
 inline constexpr const char* fines_content_increment = "fines_content_increment";
 inline constexpr const char* eroded_fraction = "eroded_fraction";
 inline constexpr const char* eroded_fraction_increment = "eroded_fraction_increment";
+// Written by a phase whose grains separate (phase/linear_elastic's tension
+// cut-off): in how many principal directions a point has no stiffness (0 to
+// 3). Quasi-static runs hold the nodes of such points with the creep term
+// (/time/creep), as they hold those of points with no stiffness at all.
+inline constexpr const char* separated_directions = "separated_directions";
 }  // namespace coupling
 
 // One batch of a phase's points for one step.
