@@ -148,7 +148,7 @@ class LinearElastic final : public suffuse::Phase {
 
   // Rankine's cut-off with no tensile strength, the return mapping of
   // perfect plasticity in principal stresses (associative, isotropic
-  // elasticity; de Souza Neto, Peric & Owen 2008, section 8.1): the trial
+  // elasticity; de Souza Neto, Peric & Owen 2008, chapter 8): the trial
   // stress goes to the closest tension-free state in the energy norm. With
   // one principal stress s_A tensile, s_A becomes zero and the plastic
   // strain d_gamma = s_A / (lambda + 2G) along it takes lambda d_gamma from
