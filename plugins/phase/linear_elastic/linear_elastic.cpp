@@ -5,6 +5,8 @@
 #include <cmath>
 #include <suffuse/plugin.hpp>
 
+#include "rankine_cutoff.hpp"
+
 namespace {
 
 class LinearElastic final : public suffuse::Phase {
@@ -50,7 +52,7 @@ class LinearElastic final : public suffuse::Phase {
   // The tangent: Hooke's law (the stress update adds only the Jaumann
   // rotation, which a quasi-static step leaves to the iterations); with the
   // tension cut-off, at a stress with principal values at zero, the
-  // elastoplastic tangent of the return (cut_tangent); none for a point
+  // elastoplastic tangent of the return (rankine_tangent); none for a point
   // separated in every direction.
   bool tangent(const suffuse::StressBatch& batch, std::span<double> stiffness) const override {
     const double* stress = batch.points.data(batch.points.core().stress);
@@ -61,23 +63,29 @@ class LinearElastic final : public suffuse::Phase {
                              s6[4] == 0 && s6[5] == 0;
       suffuse::tensor::isotropic_stiffness(separated ? 0.0 : lambda_ + 2 * G_ / 3, separated ? 0.0 : G_, D);
       if (planes_ && !separated && batch.points.data(separated_)[p] > 0)
-        cut_tangent(s6, batch.points.data(multiplier_)[p], D);
+        suffuse::linear_elastic::rankine_tangent({lambda_, G_}, s6, batch.points.data(multiplier_)[p], D);
     }
     return true;
   }
   void update_stress(const suffuse::StressBatch& batch) const override {
     if (batch.points.dim() == 2)
-      update<2>(batch);
+      planes_ ? update<2, true>(batch) : update<2, false>(batch);
     else
-      update<3>(batch);
+      planes_ ? update<3, true>(batch) : update<3, false>(batch);
   }
 
  private:
-  template <int D>
+  // A loop of its own for "planes", whose out-of-line return takes the
+  // stress by reference, so that the other modes keep it in registers.
+  template <int D, bool Planes>
   void update(const suffuse::StressBatch& batch) const {
     double* stress = batch.points.data(batch.points.core().stress);
-    double* separated = planes_ ? batch.points.data(separated_) : nullptr;
-    double* multiplier = planes_ ? batch.points.data(multiplier_) : nullptr;
+    double* separated = Planes ? batch.points.data(separated_) : nullptr;
+    double* multiplier = Planes ? batch.points.data(multiplier_) : nullptr;
+    // Locals: the stores to the stress may alias *this's doubles for the
+    // compiler, which would then reload the moduli at every point.
+    const suffuse::linear_elastic::Lame elastic{lambda_, G_};
+    const bool tension_cutoff = tension_cutoff_;
     const suffuse::StepIncrements<D> increments(batch);
     for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
       // Full 3x3 increments; out-of-plane components stay zero in 2D (plane strain).
@@ -85,14 +93,18 @@ class LinearElastic final : public suffuse::Phase {
       double* s6 = stress + p * 6;
       suffuse::tensor::Matrix ns;
       if constexpr (D == 2)
-        ns = plane_jaumann_elastic_increment(s6, d, w[0][1]);
+        ns = plane_jaumann_elastic_increment(elastic, s6, d, w[0][1]);
       else
-        ns = suffuse::tensor::jaumann_elastic_increment(suffuse::tensor::to_matrix(s6), d, w, G_, lambda_);
-      if (planes_) {
+        ns = suffuse::tensor::jaumann_elastic_increment(suffuse::tensor::to_matrix(s6), d, w, elastic.G,
+                                                        elastic.lambda);
+      if constexpr (Planes) {
         multiplier[p] = 0;
-        separated[p] = has_tension(ns) ? cut_off(ns, multiplier[p]) : 0;
-      } else if (tension_cutoff_ && has_tension(ns)) {
-        ns = {};
+        separated[p] = has_tension(ns) ? suffuse::linear_elastic::rankine_return(elastic, ns, multiplier[p]) : 0;
+      } else if (tension_cutoff && has_tension(ns)) {
+        // Element by element: g++ 12 compiles `ns = {}` through memory,
+        // which kept ns on the stack at every point (a fifth of this loop).
+        for (auto& row : ns)
+          for (double& v : row) v = 0;
       }
       suffuse::tensor::store(ns, s6);
     }
@@ -103,10 +115,11 @@ class LinearElastic final : public suffuse::Phase {
   // xx, -2 omega s01 on yy, omega (s11 - s00) on xy, omega s12 on xz and
   // -omega s02 on yz (the strain increment may have out-of-plane parts, from
   // an eigenstrain). A quarter of the general form's arithmetic.
-  suffuse::tensor::Matrix plane_jaumann_elastic_increment(const double* s6, const suffuse::tensor::Matrix& d,
-                                                          double omega) const {
+  static suffuse::tensor::Matrix plane_jaumann_elastic_increment(const suffuse::linear_elastic::Lame& elastic,
+                                                                 const double* s6, const suffuse::tensor::Matrix& d,
+                                                                 double omega) {
     const double xx = s6[0], yy = s6[1], zz = s6[2], yz = s6[3], xz = s6[4], xy = s6[5];
-    const double volumetric = lambda_ * (d[0][0] + d[1][1] + d[2][2]), G2 = 2 * G_, shear_rotation = 2 * omega * xy;
+    const double volumetric = elastic.lambda * (d[0][0] + d[1][1] + d[2][2]), G2 = 2 * elastic.G, shear_rotation = 2 * omega * xy;
     const double nxx = xx + G2 * d[0][0] + volumetric + shear_rotation;
     const double nyy = yy + G2 * d[1][1] + volumetric - shear_rotation;
     const double nzz = zz + G2 * d[2][2] + volumetric;
@@ -144,104 +157,6 @@ class LinearElastic final : public suffuse::Phase {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) m(i, j) = s[i][j];
     return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m, Eigen::EigenvaluesOnly).eigenvalues()(2) > 0;
-  }
-
-  // Rankine's cut-off with no tensile strength, the return mapping of
-  // perfect plasticity in principal stresses (associative, isotropic
-  // elasticity; de Souza Neto, Peric & Owen 2008, chapter 8): the trial
-  // stress goes to the closest tension-free state in the energy norm. With
-  // one principal stress s_A tensile, s_A becomes zero and the plastic
-  // strain d_gamma = s_A / (lambda + 2G) along it takes lambda d_gamma from
-  // the others (the lateral effect of the strain that separated the grains);
-  // with two, both zero (the edge); with all three, no stress (the apex).
-  // The principal directions are the trial's.
-  // Returns the number of separated directions, with the stress in `trial`.
-  int cut_off(suffuse::tensor::Matrix& trial, double& multiplier) const {
-    Eigen::Matrix3d m;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) m(i, j) = trial[i][j];
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(m);
-    const Eigen::Vector3d s = e.eigenvalues();  // ascending: s(2) the largest
-    const double a = lambda_ + 2 * G_, l = lambda_;
-    Eigen::Vector3d r = Eigen::Vector3d::Zero();
-    int separated = 1;
-    const double g = s(2) / a;
-    if (s(1) - l * g <= 0) {
-      r = {s(0) - l * g, s(1) - l * g, 0.0};
-      multiplier = g;
-    } else {
-      const double det = a * a - l * l, ga = (a * s(2) - l * s(1)) / det, gb = (a * s(1) - l * s(2)) / det;
-      r(0) = std::min(s(0) - l * (ga + gb), 0.0);
-      separated = r(0) < 0 ? 2 : 3;
-      multiplier = std::min(ga, gb);
-    }
-    if (separated == 3) {  // exactly no stress: the tangent knows a separated point by it
-      trial = {};
-      return 3;
-    }
-    const Eigen::Matrix3d back = e.eigenvectors() * r.asDiagonal() * e.eigenvectors().transpose();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) trial[i][j] = (back(i, j) + back(j, i)) / 2;
-    return separated;
-  }
-
-  // The tangent of the cut-off at a returned stress, in its principal
-  // frame, turned back to the axes: the normal stiffness with the stresses
-  // of the separated directions (principal values at zero, to round-off)
-  // held at zero, D - D_c D_cc^-1 D_c', and the shear as shear_share says
-  // (de Souza Neto et al. 2008, appendix A: the return's turn of the
-  // principal axes). Hooke's where no principal value is at zero. A
-  // separated direction has no stiffness: quasi-static runs hold such
-  // points' nodes with their creep term (coupling::separated_directions).
-  void cut_tangent(const double* s6, double multiplier, double* D) const {
-    const auto M = suffuse::tensor::to_matrix(s6);
-    Eigen::Matrix3d m;
-    double scale = 0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) m(i, j) = M[i][j], scale = std::max(scale, std::abs(M[i][j]));
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(m);
-    bool cut[3];
-    int cuts = 0;
-    for (int i = 0; i < 3; ++i) cuts += cut[i] = e.eigenvalues()(i) >= -1e-12 * scale;
-    if (cuts == 0) return;
-    Eigen::Matrix3d normal = Eigen::Matrix3d::Constant(lambda_);
-    normal.diagonal().array() += 2 * G_;
-    for (int c = 0; c < 3; ++c) {  // condense each separated direction out in turn
-      if (!cut[c]) continue;
-      const Eigen::Vector3d column = normal.col(c);
-      const double pivot = column(c);
-      normal -= pivot > 0 ? Eigen::Matrix3d(column * column.transpose() / pivot) : Eigen::Matrix3d(normal);
-    }
-
-    // The shear across two principal directions keeps (s_a - s_b) / (s_a -
-    // s_b)_trial of Hooke's: all of it between two that carry stress (the
-    // return shifts both alike), none between two separated ones, and
-    // between a separated one and another s / (2 G d_gamma + s), s the
-    // other's |stress|, d_gamma the return's multiplier.
-    const auto shear_share = [&](int a, int b) {
-      if (!cut[a] && !cut[b]) return 1.0;
-      if (cut[a] && cut[b]) return 0.0;
-      const double other = std::abs(e.eigenvalues()(cut[a] ? b : a));
-      return other > 0 ? other / (2 * G_ * multiplier + other) : 0.0;
-    };
-    const Eigen::Matrix3d& R = e.eigenvectors();
-    const int voigt[6][2] = {{0, 0}, {1, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}};
-    for (int k = 0; k < 6; ++k) {  // column k: the stress of unit engineering strain k
-      Eigen::Matrix3d strain = Eigen::Matrix3d::Zero();
-      const auto [i, j] = voigt[k];
-      if (i == j)
-        strain(i, j) = 1;
-      else
-        strain(i, j) = strain(j, i) = 0.5;
-      const Eigen::Matrix3d principal = R.transpose() * strain * R;
-      Eigen::Matrix3d stress = Eigen::Matrix3d::Zero();
-      stress.diagonal() = normal * principal.diagonal();
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          if (a != b) stress(a, b) = shear_share(a, b) * 2 * G_ * principal(a, b);
-      const Eigen::Matrix3d global = R * stress * R.transpose();
-      for (int r = 0; r < 6; ++r) D[r * 6 + k] = global(voigt[r][0], voigt[r][1]);
-    }
   }
 
   double rho_;
