@@ -505,6 +505,13 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
                 << s.halved_steps << " attempts halved";
       std::cout << "; " << s.factorisations << " factorisations, " << s.gmres_iterations << " GMRES iterations";
       std::cout << "\n";
+      if (s.creep_held_most > 0)
+        std::cout << "  creep: material points without stiffness in some direction (separated, or at a yield "
+                     "surface's apex), held by the creep term (/time/creep): "
+                  << s.creep_held_first << " at t = " << std::setprecision(6) << s.creep_held_from << " s, the first; "
+                  << s.creep_held_most << " at t = " << s.creep_held_most_at
+                  << " s, the most. Where they form a layer (a heave, a fluidised bed), its deformation is the "
+                     "creep term's, not a prediction: run that explicit (docs/time-integration.md, Fluidisation)\n";
     }
     if (s.transport_substeps > 0)
       std::cout << "  transport: " << s.transport_substeps << " substeps; " << s.steady_transport_steps << " of "

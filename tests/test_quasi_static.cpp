@@ -189,8 +189,10 @@ TEST(QuasiStatic, DrySelfWeightColumn) {
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
-  sim.run({});
+  const suffuse::RunSummary run = sim.run({});
   ASSERT_EQ(sim.steps(), 1u);
+  EXPECT_EQ(run.creep_held_most, 0u) << "every point of an elastic column under its weight has its stiffness";
+  EXPECT_TRUE(std::isnan(run.creep_held_from));
   const double rho = j["materials"]["soil"]["density"], E = j["materials"]["soil"]["youngs_modulus"], g = 9.81;
   const double H = j["bodies"][0]["max"][1];
   const auto& pts = sim.points();
@@ -400,6 +402,16 @@ TEST(QuasiStatic, SuffusionColumn) {
   const double F = ledger.eroded / ledger.initial_solid, F_all = (0.2 - 0.05) / (1 - 0.05);
   EXPECT_GT(F, 0.999 * F_all);
   EXPECT_LE(F, F_all * (1 + 1e-12));
+  // The summary says when points had no stiffness (held by the creep
+  // term): a few at the surface from about 16 s, and the heaving top, a
+  // sixth of the column, after its onset at 38 s.
+  EXPECT_GE(run.creep_held_most, sim.points().size() / 8) << "the heaving top";
+  EXPECT_GE(run.creep_held_most_at, 38.0);
+  EXPECT_LE(run.creep_held_most_at, 45.0);
+  EXPECT_LE(run.creep_held_from, run.creep_held_most_at);
+  EXPECT_LE(run.creep_held_first, run.creep_held_most);
+  RecordProperty("creep_held_most", text(static_cast<double>(run.creep_held_most)));
+  RecordProperty("creep_held_most_at", text(run.creep_held_most_at));
   RecordProperty("eroded_fraction_50s", text(F));
   RecordProperty("steps", text(static_cast<double>(run.steps)));
   RecordProperty("explicit_steps", text(explicit_steps));

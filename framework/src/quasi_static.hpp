@@ -111,6 +111,12 @@ class QuasiStatic {
   // Linear solves so far on one process: factorisations, and GMRES
   // iterations with the factors of an earlier matrix (quasi_static_linear.hpp).
   std::size_t factorisations() const { return factorisations_; }
+  // Points the last assembly held with the creep term (/time/creep): without
+  // stiffness, or separated across a plane (coupling::separated_directions),
+  // summed over the processes. Where they form a layer (a heave, a
+  // fluidised bed) its deformation is the creep term's, not a prediction
+  // (docs/time-integration.md, Fluidisation).
+  std::size_t creep_held_points() const { return creep_held_points_; }
   std::size_t gmres_iterations() const { return gmres_iterations_; }
 
  private:
@@ -164,6 +170,7 @@ class QuasiStatic {
   std::vector<double> tail_sum_, tail_weight_;  // per node: work arrays of follow_tail_nodes
   std::vector<double> residual_;             // per equation
   std::vector<double> creep_;                // per node component: the regularising stiffness
+  std::size_t creep_held_points_ = 0;        // the points that gave it (every process's)
   // With /time/inertia, per node component: M / dt^2, and dt v0 (empty without).
   std::vector<double> inertia_, inertia_target_;
   std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual

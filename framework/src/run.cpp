@@ -122,6 +122,10 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.steady_transport_steps = steady_transport_steps_;
   summary.newton_iterations = newton_iterations_;
   summary.halved_steps = halved_steps_;
+  summary.creep_held_first = creep_held_first_;
+  summary.creep_held_from = creep_held_from_;
+  summary.creep_held_most = creep_held_most_;
+  summary.creep_held_most_at = creep_held_most_at_;
   summary.point_sorts = point_order_->sorts();
   if (quasi_static_) {
     summary.factorisations = quasi_static_->factorisations();

@@ -378,6 +378,10 @@ void Simulation::step_quasi_static() {
     timed(Stage::solve, [&] { iterations = quasi_static_->solve(t, dt); });
     if (iterations) {
       newton_iterations_ += static_cast<std::size_t>(*iterations);
+      if (const std::size_t held = quasi_static_->creep_held_points(); held > 0) {
+        if (creep_held_first_ == 0) creep_held_first_ = held, creep_held_from_ = t + dt;
+        if (held > creep_held_most_) creep_held_most_ = held, creep_held_most_at_ = t + dt;
+      }
       break;
     }
     ++halved_steps_;

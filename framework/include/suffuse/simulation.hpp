@@ -98,6 +98,15 @@ struct RunSummary {
   // processes, PETSc's solves that set their preconditioner up anew), and
   // the GMRES iterations of the iterations that reused them.
   std::size_t factorisations = 0, gmres_iterations = 0;
+  // Quasi-static runs: the material points converged steps held with the
+  // creep term (without stiffness, or separated across a plane): the end of
+  // the first step that held any and how many, and the most one step held
+  // and when (times NaN if none did). Where they form a layer (a heave, a
+  // fluidised bed), its deformation is the creep term's, not a prediction
+  // (docs/time-integration.md, Fluidisation).
+  std::size_t creep_held_first = 0, creep_held_most = 0;
+  double creep_held_from = std::numeric_limits<double>::quiet_NaN();
+  double creep_held_most_at = std::numeric_limits<double>::quiet_NaN();
   // Times the points were sorted again into the grid's order
   // (/sort_points_at_spread), points moving between processes.
   std::size_t point_sorts = 0;
@@ -250,6 +259,9 @@ class Simulation {
   SimulationClock clock_{0};
   StageTimes times_;
   std::size_t transport_substeps_ = 0, steady_transport_steps_ = 0, newton_iterations_ = 0, halved_steps_ = 0;
+  std::size_t creep_held_first_ = 0, creep_held_most_ = 0;  // RunSummary's creep_held_*
+  double creep_held_from_ = std::numeric_limits<double>::quiet_NaN();
+  double creep_held_most_at_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace suffuse
