@@ -206,8 +206,7 @@ void QuasiStatic::assemble(double dt) {
   sum_over_processes(held);
   creep_held_points_ = static_cast<std::size_t>(held[0]);
   // Every process's creep_: the residual reads it (evaluate).
-  if (distributed && d_.comm.any(std::any_of(creep_.begin(), creep_.end(), [](double c) { return c != 0; })))
-    sum_over_processes(creep_);
+  if (distributed && creep_held_points_ > 0) sum_over_processes(creep_);
   // What the nodes' own terms add to a displacement equation's diagonal: the
   // creep term, and the inertia (M / dt^2) with /time/inertia.
   const auto own_diagonal = [&](std::size_t k) { return creep_[k] + (inertia_.empty() ? 0.0 : inertia_[k]); };

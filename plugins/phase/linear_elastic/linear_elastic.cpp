@@ -75,15 +75,15 @@ class LinearElastic final : public suffuse::Phase {
   }
 
  private:
-  // A loop of its own for "planes", whose out-of-line return takes the
-  // stress by reference, so that the other modes keep it in registers.
+  // "planes" gets a loop of its own: it writes two more fields per point,
+  // which the other modes' loop need not test for.
   template <int D, bool Planes>
   void update(const suffuse::StressBatch& batch) const {
     double* stress = batch.points.data(batch.points.core().stress);
     double* separated = Planes ? batch.points.data(separated_) : nullptr;
     double* multiplier = Planes ? batch.points.data(multiplier_) : nullptr;
-    // Locals: the stores to the stress may alias *this's doubles for the
-    // compiler, which would then reload the moduli at every point.
+    // Locals: stores through a double* could alias *this's moduli for the
+    // compiler (not measured to matter).
     const suffuse::linear_elastic::Lame elastic{lambda_, G_};
     const bool tension_cutoff = tension_cutoff_;
     const suffuse::StepIncrements<D> increments(batch);
@@ -119,7 +119,8 @@ class LinearElastic final : public suffuse::Phase {
                                                                  const double* s6, const suffuse::tensor::Matrix& d,
                                                                  double omega) {
     const double xx = s6[0], yy = s6[1], zz = s6[2], yz = s6[3], xz = s6[4], xy = s6[5];
-    const double volumetric = elastic.lambda * (d[0][0] + d[1][1] + d[2][2]), G2 = 2 * elastic.G, shear_rotation = 2 * omega * xy;
+    const double volumetric = elastic.lambda * (d[0][0] + d[1][1] + d[2][2]), G2 = 2 * elastic.G;
+    const double shear_rotation = 2 * omega * xy;
     const double nxx = xx + G2 * d[0][0] + volumetric + shear_rotation;
     const double nyy = yy + G2 * d[1][1] + volumetric - shear_rotation;
     const double nzz = zz + G2 * d[2][2] + volumetric;

@@ -1,7 +1,6 @@
 // Rankine's tension cut-off with no tensile strength for phase/linear_elastic's
 // "separation": "planes": the return to the closest tension-free stress and its
-// tangent. A translation unit of its own: its eigensolvers, inlined beside
-// the stress loop, slowed the loop of the runs that never reach them.
+// tangent: one idea, in a file of its own beside the plugin's elasticity.
 #pragma once
 
 #include <suffuse/tensor.hpp>
