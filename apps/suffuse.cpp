@@ -507,7 +507,7 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
       std::cout << "\n";
       if (s.creep_held_most > 0)
         std::cout << "  creep: material points without stiffness in some direction (separated, or at a yield "
-                     "surface's apex; the creep term, /time/creep, holds them): "
+                     "surface's apex; the creep term, /time/creep, holds them unless zero): "
                   << s.creep_held_first << " at t = " << std::setprecision(6) << s.creep_held_from << " s, the first; "
                   << s.creep_held_most << " at t = " << s.creep_held_most_at
                   << " s, the most. Where they form a layer (a heave, a fluidised bed), its deformation is the "
