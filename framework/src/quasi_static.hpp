@@ -111,13 +111,13 @@ class QuasiStatic {
   // Linear solves so far on one process: factorisations, and GMRES
   // iterations with the factors of an earlier matrix (quasi_static_linear.hpp).
   std::size_t factorisations() const { return factorisations_; }
+  std::size_t gmres_iterations() const { return gmres_iterations_; }
   // Points the last assembly held with the creep term (/time/creep): without
   // stiffness, or separated across a plane (coupling::separated_directions),
   // summed over the processes. Where they form a layer (a heave, a
   // fluidised bed) its deformation is the creep term's, not a prediction
   // (docs/time-integration.md, Fluidisation).
   std::size_t creep_held_points() const { return creep_held_points_; }
-  std::size_t gmres_iterations() const { return gmres_iterations_; }
 
  private:
   struct Linear;  // the sparse system and its factorisation

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 
 #include "quasi_static_linear.hpp"
 #include "suffuse/error.hpp"
@@ -191,11 +192,11 @@ void QuasiStatic::assemble(double dt) {
   const double* material = pts.data(pts.core().material_id);
   const auto separated_field = pts.find(coupling::separated_directions);
   const double* separated = separated_field ? pts.data(*separated_field) : nullptr;
-  std::vector<double> held{0.0};
+  double held = 0;  // points that give the creep term
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const double* D = &tangent_[p * 36];
     if (!without_stiffness(D) && !(separated && separated[p] > 0)) continue;
-    held[0] += 1;
+    held += 1;
     const double creep = scene_.quasi_static.creep * V[p] * modulus_[static_cast<std::size_t>(material[p])];
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k = p * s.npp + a;
@@ -203,8 +204,8 @@ void QuasiStatic::assemble(double dt) {
       for (int i = 0; i < dim; ++i) creep_I[i] += creep * s.gradients[k * dim + i] * s.gradients[k * dim + i];
     }
   }
-  sum_over_processes(held);
-  creep_held_points_ = static_cast<std::size_t>(held[0]);
+  d_.comm.sum(std::span<double>(&held, 1));
+  creep_held_points_ = static_cast<std::size_t>(held);
   // Every process's creep_: the residual reads it (evaluate).
   if (distributed && creep_held_points_ > 0) sum_over_processes(creep_);
   // What the nodes' own terms add to a displacement equation's diagonal: the

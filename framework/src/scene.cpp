@@ -117,8 +117,8 @@ namespace {
 
 // The scene as its values: keys sorted and every number a double, so that
 // a file rewritten by another tool (jq writes 1.0e7 as 10000000; Python's
-// json.dump with sort_keys reorders the keys) keeps its fingerprint. The scene itself keeps the file's
-// order (Json), for messages.
+// json.dump with sort_keys reorders the keys) keeps its fingerprint. The
+// scene itself keeps the file's order (Json), for messages.
 nlohmann::json canonical(const Json& j) {
   if (j.is_object()) {
     nlohmann::json object = nlohmann::json::object();  // a std::map: sorted
