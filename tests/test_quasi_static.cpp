@@ -127,13 +127,26 @@ TEST(QuasiStatic, TerzaghiIsochrones3D) {
 // points (within a cell the strain is constant and the pressure linear, so
 // the two rows of points differ by +-0.5% of the base effective stress and
 // their mean is the cell's): Darcy flux K i within 0.1% and effective stress
-// (gamma' - i gamma_w) z within 0.5% of its base value, except the drained
-// top cell (measured 0.12% and 0.02%); pore pressure linear at every point
-// within 0.1% of the base pressure; the liquid's ledger closes.
-TEST(QuasiStatic, SteadyUpwardSeepage) {
+// (gamma' - i gamma_w) z within 0.5% of its base value; pore pressure linear
+// at every point within 0.1% of the base pressure; the liquid's ledger
+// closes. The drained top cell too: the free surface's pressure is zero
+// where the surface is, not at the node next to it (measured: flux 0.076%,
+// effective stress 0.070%, pressure 0.006%). With p = 0 at the node the
+// top cell's flux was 0.58% off: the column swells 0.25 mm above its top
+// node. A column 0.99 m tall ends half a cell below a node (measured 0.076%,
+// 0.052%, 0.006%; with p = 0 at the node the top cell's flux was 48% off,
+// the effective stress 4.8% and the pressure 1.6%).
+void check_steady_upward_seepage(double L) {
   auto j = quasi_static(read_json(source_dir() / "share/scenes/upward_seepage.json"), 0.05);
-  const suffuse::test::UpwardSeepage seepage;
-  const double L = seepage.L, q_exact = seepage.flux(), h = 0.02;
+  j["bodies"][0]["max"][1] = L;
+  j["bodies"][0]["water_table"] = L;
+  auto& head = j["boundary_conditions"][4];
+  ASSERT_EQ(head["type"], "bc/pore_pressure");
+  head["initial_head"] = L;
+  head["head"] = L + 0.5;
+  suffuse::test::UpwardSeepage seepage;
+  seepage.L = L;
+  const double q_exact = seepage.flux(), h = 0.02;
   suffuse::Registry registry;
   const suffuse::Scene scene = scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);
@@ -145,7 +158,7 @@ TEST(QuasiStatic, SteadyUpwardSeepage) {
   const double* s = pts.data(pts.core().stress);
   const double* p = pts.data(pts.id("pore_pressure"));
   const double* q = pts.data(pts.id("darcy_flux"));
-  const auto cells = static_cast<std::size_t>(std::lround(L / h));
+  const auto cells = static_cast<std::size_t>(std::ceil(L / h - 1e-9));
   std::vector<double> cell_q(cells, 0.0), cell_error(cells, 0.0), cell_points(cells, 0.0);
   double p_worst = 0;
   for (std::size_t k = 0; k < pts.size(); ++k) {
@@ -156,27 +169,25 @@ TEST(QuasiStatic, SteadyUpwardSeepage) {
     cell_error[c] += s[6 * k + 1] + seepage.effective_stress(z);
     cell_points[c] += 1;
   }
-  double q_worst = 0, s_worst = 0, q_top = 0, s_top = 0;
+  double q_worst = 0, s_worst = 0;
   const double s_base = seepage.effective_stress(L);
   for (std::size_t c = 0; c < cells; ++c) {
-    const double q_error = std::abs(cell_q[c] / cell_points[c] / q_exact - 1);
-    const double s_error = std::abs(cell_error[c] / cell_points[c]) / s_base;
-    (c + 1 < cells ? q_worst : q_top) = std::max(c + 1 < cells ? q_worst : q_top, q_error);
-    (c + 1 < cells ? s_worst : s_top) = std::max(c + 1 < cells ? s_worst : s_top, s_error);
+    q_worst = std::max(q_worst, std::abs(cell_q[c] / cell_points[c] / q_exact - 1));
+    s_worst = std::max(s_worst, std::abs(cell_error[c] / cell_points[c]) / s_base);
   }
   EXPECT_LT(q_worst, 1e-3) << "Darcy flux, cell means";
   EXPECT_LT(s_worst, 5e-3) << "effective stress, cell means / its base value";
-  EXPECT_LT(q_top, 2e-3) << "Darcy flux in the drained top cell";
-  EXPECT_LT(s_top, 5e-3) << "effective stress in the drained top cell";
   EXPECT_LT(p_worst, 1e-3) << "pore pressure / base pressure";
   EXPECT_LT(sim.mass_ledger().liquid_imbalance(), 1e-12);
-  RecordProperty("darcy_flux_error", text(q_worst));
-  RecordProperty("darcy_flux_error_top_cell", text(q_top));
-  RecordProperty("effective_stress_error", text(s_worst));
-  RecordProperty("effective_stress_error_top_cell", text(s_top));
-  RecordProperty("pressure_linearity_error", text(p_worst));
-  RecordProperty("steps", text(static_cast<double>(sim.steps())));
+  ::testing::Test::RecordProperty("darcy_flux_error", text(q_worst));
+  ::testing::Test::RecordProperty("effective_stress_error", text(s_worst));
+  ::testing::Test::RecordProperty("pressure_linearity_error", text(p_worst));
+  ::testing::Test::RecordProperty("steps", text(static_cast<double>(sim.steps())));
 }
+
+TEST(QuasiStatic, SteadyUpwardSeepage) { check_steady_upward_seepage(1.0); }
+
+TEST(QuasiStatic, SteadyUpwardSeepageBelowASurfaceBetweenNodes) { check_steady_upward_seepage(0.99); }
 
 // A dry body: share/scenes/self_weight_column.json (10 m, E = 10 MPa, no
 // liquid) in one quasi-static step: sigma_yy = -rho g (H - y) at the points,
@@ -416,6 +427,64 @@ TEST(QuasiStatic, SuffusionColumn) {
   RecordProperty("fines_imbalance", text(ledger.fines_imbalance()));
 }
 
+// The default column's eroded fraction F(t), quasi-static with steps of at
+// most 0.05 s (share/scenes/suffusion_column_1h.json to 50 s), against the
+// explicit run of share/scenes/suffusion_column.json without mass scaling
+// (/time/mass_scaling 1: 1.45 million steps, 28 minutes; its ledger gave the
+// values below): within 1% at each time, using at least 1,000 times fewer
+// steps (measured: 1,007 steps; within 0.98% at 3 s, 0.67% at 5 s, under
+// 0.5% from 8 s on). The points' Darcy flux is the nodal flux interpolated:
+// with -K grad p at each point, F was 1.58% high at 5 s and 1.04% low at 45 s.
+TEST(QuasiStatic, SuffusionColumnErodesAsTheExplicitRunDoes) {
+  const std::array<std::array<double, 2>, 10> explicit_run{{{3, 0.007231},
+                                                            {5, 0.012312},
+                                                            {8, 0.019401},
+                                                            {10, 0.024367},
+                                                            {12, 0.029458},
+                                                            {20, 0.051941},
+                                                            {30, 0.086235},
+                                                            {40, 0.136374},
+                                                            {45, 0.157895},
+                                                            {50, 0.157895}}};
+  suffuse::Registry registry;
+  double explicit_dt = 0;
+  {
+    auto j = read_json(source_dir() / "share/scenes/suffusion_column.json");
+    j["outputs"] = nlohmann::json::array();
+    j["time"]["mass_scaling"] = 1.0;
+    const suffuse::Scene scene = scene_from(j, registry);
+    explicit_dt = suffuse::Simulation(scene, registry).dt();
+  }
+  auto j = read_json(source_dir() / "share/scenes/suffusion_column_1h.json");
+  j["time"]["end"] = 50.0;
+  j["time"]["max_dt"] = 0.05;
+  j["outputs"] = nlohmann::json::array();
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  std::vector<std::array<double, 2>> F{{0.0, 0.0}};  // (t, F) after each step
+  suffuse::RunOptions options;
+  options.on_step = [&](const suffuse::Progress&) {
+    const suffuse::MassLedger ledger = sim.mass_ledger();
+    F.push_back({sim.time(), ledger.eroded / ledger.initial_solid});
+  };
+  const suffuse::RunSummary run = sim.run(options);
+  EXPECT_LE(static_cast<double>(run.steps) * 1000, 50.0 / explicit_dt);
+  double worst = 0;
+  for (const auto& [t, F_explicit] : explicit_run) {
+    const auto after = std::lower_bound(F.begin(), F.end(), t, [](const auto& a, double v) { return a[0] < v; });
+    ASSERT_NE(after, F.end()) << t;
+    ASSERT_NE(after, F.begin()) << t;
+    const auto& [t1, F1] = *after;
+    const auto& [t0, F0] = *(after - 1);
+    const double at_t = F0 + (F1 - F0) * (t - t0) / (t1 - t0);
+    EXPECT_NEAR(at_t / F_explicit, 1.0, 0.01) << "F at " << t << " s";
+    worst = std::max(worst, std::abs(at_t / F_explicit - 1));
+  }
+  RecordProperty("eroded_fraction_worst_relative_difference", text(worst));
+  RecordProperty("steps", text(static_cast<double>(run.steps)));
+  RecordProperty("explicit_steps", text(50.0 / explicit_dt));
+}
+
 // The default column in a grid one cell taller, so that its top is a free
 // surface: the last uneroded layer heaves at about 38 s. With the tension
 // cut-off's "point" separation a point's whole stress drops when it turns
@@ -637,11 +706,14 @@ namespace {
 // iterations after a step's first solve by GMRES, preconditioned by the
 // factors of an earlier iterate; they reach the equilibria of runs that
 // factorise every iteration within the Newton tolerance: the same steps,
-// and every point's displacement, stress and pore pressure within 1e-9 of
-// the field's largest (measured: 1.2e-12), with fewer than half as many
+// and, at a Newton tolerance of 1e-10, every point's displacement, stress
+// and pore pressure within 1e-9 of the field's largest (measured: 1.6e-12;
+// at the default 1e-8 the stresses differ by up to 2.8e-8 of the largest,
+// what that tolerance leaves over 154 steps of yielding), with fewer than half as many
 // factorisations.
 TEST(QuasiStatic, ReusedFactorsReachTheEquilibriaOfFactorisedOnes) {
-  const auto j = suffuse::test::coarse_quasi_static_levee(4.0);
+  auto j = suffuse::test::coarse_quasi_static_levee(4.0);
+  j["time"]["newton_tolerance"] = 1e-10;
   suffuse::Registry registry;
   auto factorised = j;
   factorised["time"]["reuse_factors"] = false;

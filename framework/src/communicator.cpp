@@ -75,6 +75,15 @@ void Communicator::sum(std::span<double> values) const {
   }
 }
 
+void Communicator::max(std::span<double> values) const {
+  if (!parallel()) return;
+  constexpr std::size_t slice = std::size_t{1} << 26;
+  for (std::size_t first = 0; first < values.size(); first += slice) {
+    const int n = static_cast<int>(std::min(slice, values.size() - first));
+    MPI_Allreduce(MPI_IN_PLACE, values.data() + first, n, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  }
+}
+
 void Communicator::sum_below(std::span<double> values) const {
   if (!parallel()) {
     std::fill(values.begin(), values.end(), 0.0);
@@ -165,6 +174,7 @@ Communicator::Communicator() = default;
 double Communicator::min(double local) const { return local; }
 double Communicator::max(double local) const { return local; }
 void Communicator::sum(std::span<double>) const {}
+void Communicator::max(std::span<double>) const {}
 void Communicator::sum_below(std::span<double> values) const { std::fill(values.begin(), values.end(), 0.0); }
 bool Communicator::any(bool local) const { return local; }
 std::vector<std::size_t> Communicator::all_counts(std::size_t mine) const { return {mine}; }

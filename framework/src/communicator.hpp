@@ -36,6 +36,8 @@ class Communicator {
   // on every process (summed on the first, then broadcast: an all-reduce may
   // round differently on different processes, and their decisions must agree).
   void sum(std::span<double> values) const;
+  // Every process gets the largest of each value over the processes (exact: no order).
+  void max(std::span<double> values) const;
 
   // Every process's `mine` (counts[r] values from rank r), concatenated in
   // rank order into `all` (resized to the total), on every process.

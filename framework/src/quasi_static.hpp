@@ -176,7 +176,21 @@ class QuasiStatic {
   std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual
   std::vector<double> point_pressure_;       // p interpolated at the points (saturated ones)
   std::vector<double> cell_count_;           // saturated points per cell
-  std::vector<char> fixed_pressure_;         // per node: its pressure is prescribed
+  std::vector<char> fixed_pressure_;         // per node: its pressure is prescribed (faces, free surfaces)
+  // Free surfaces: per node, axis and side (+, -), the farthest reach of the
+  // domains (x + l/2, -x + l/2) of the saturated points nearest the grid
+  // line through the node along that axis, in its two cells; the surface nodes; and
+  // those whose pressure follows a node inside (extrapolation()): their
+  // p_dof_ is that node's, p_weight_ the factor (1 for every other node).
+  std::vector<double> line_reach_;
+  std::vector<char> surface_node_;
+  struct Extrapolated {
+    std::size_t node, from;
+    double factor;
+  };
+  std::vector<Extrapolated> extrapolated_;
+  std::vector<double> p_weight_;
+  std::optional<Extrapolated> extrapolation(std::size_t node) const;
   // Nodes whose pressure one face open to the liquid prescribes: the flux
   // through that face, from their pressure equation's residual.
   struct FaceFlux {

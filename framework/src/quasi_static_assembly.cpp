@@ -226,6 +226,7 @@ void QuasiStatic::assemble(double dt) {
   auto& t = L.triplets;
   t.clear();
   double* values = in_place ? L.matrix.valuePtr() : nullptr;
+  if (in_place) std::fill(values, values + L.matrix.nonZeros(), 0.0);  // entries extrapolated nodes share add up
   std::size_t entry = 0;
   for (std::size_t c = 0; c < block_nodes_.size(); ++c) {
     const auto I = static_cast<std::size_t>(block_nodes_[c]);
@@ -247,9 +248,11 @@ void QuasiStatic::assemble(double dt) {
           const std::int64_t col = j < dim ? u_dof_[J * dim + j] : p_dof_[J];
           if (col < 0) continue;
           double v = B[i * w + j];
+          if (i == dim) v *= p_weight_[I];  // an extrapolated node's equation joins its inner node's
+          if (j == dim) v *= p_weight_[J];
           if (i == j && I == J && i < dim && !distributed) v += own_diagonal(I * dim + i);
           if (in_place) {
-            if (entry < L.value_at.size()) values[L.value_at[entry]] = v;
+            if (entry < L.value_at.size()) values[L.value_at[entry]] += v;
             ++entry;  // more than the step's first assembly had: a defect, reported below
           } else
             t.emplace_back(static_cast<int>(row), static_cast<int>(col), v);
@@ -277,7 +280,9 @@ void QuasiStatic::assemble(double dt) {
           own_diagonal(k) != 0)
         t.emplace_back(static_cast<int>(row), static_cast<int>(row), own_diagonal(k));
     }
-    system.add(t, stencil_slots_ * static_cast<std::size_t>(w));
+    std::size_t per_row = 1;  // an extrapolated node's couplings reach two nodes farther
+    for (int i = 0; i < dim; ++i) per_row *= stencil_width_ + (extrapolated_.empty() ? 0 : 4);
+    system.add(t, per_row * static_cast<std::size_t>(w));
     system.finish(true);
     return;
   }
@@ -285,7 +290,7 @@ void QuasiStatic::assemble(double dt) {
   if (!in_place) {
     L.matrix.resize(size, size);
     L.matrix.setFromTriplets(t.begin(), t.end());
-    // Where each triplet's value lies (no two share an entry: one block per node pair).
+    // Where each triplet's value lies (an extrapolated node's share with its inner node's).
     const int* outer = L.matrix.outerIndexPtr();
     const int* inner = L.matrix.innerIndexPtr();
     L.value_at.resize(t.size());
