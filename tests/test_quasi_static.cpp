@@ -135,8 +135,8 @@ TEST(QuasiStatic, TerzaghiIsochrones3D) {
 // top cell's flux was 0.58% off: the column swells 0.25 mm above its top
 // node. A column 0.99 m tall ends half a cell below a node (measured 0.076%,
 // 0.052%, 0.006%; with p = 0 at the node the top cell's flux was 48% off,
-// the effective stress 4.8% and the pressure 1.6%).
-void check_steady_upward_seepage(double L) {
+// the effective stress 4.8% and the pressure 1.6%), in 2D and in 3D.
+void check_steady_upward_seepage(double L, int dim = 2) {
   auto j = quasi_static(read_json(source_dir() / "share/scenes/upward_seepage.json"), 0.05);
   j["bodies"][0]["max"][1] = L;
   j["bodies"][0]["water_table"] = L;
@@ -144,6 +144,20 @@ void check_steady_upward_seepage(double L) {
   ASSERT_EQ(head["type"], "bc/pore_pressure");
   head["initial_head"] = L;
   head["head"] = L + 0.5;
+  if (dim == 3) {  // the same column, one cell deep, standing along z (the vertical is the last axis)
+    j["dimension"] = 3;
+    j["gravity"] = {0.0, 0.0, -9.81};
+    j["grid"] = {{"origin", {0.0, 0.0, 0.0}}, {"cell_size", {0.02, 0.02, 0.02}}, {"cells", {1, 1, 55}}};
+    j["bodies"][0]["min"] = {0.0, 0.0, 0.0};
+    j["bodies"][0]["max"] = {0.02, 0.02, L};
+    head["face"] = "front";
+    j["boundary_conditions"][0] = {{"type", "bc/velocity"}, {"face", "front"}, {"vx", 0.0}, {"vy", 0.0},
+                                   {"vz", 0.0}, {"phase", "solid"}};
+    j["boundary_conditions"][1] = {{"type", "bc/velocity"}, {"face", "front"}, {"vx", 0.0}, {"vy", 0.0},
+                                   {"phase", "liquid"}};
+    j["boundary_conditions"].push_back({{"type", "bc/velocity"}, {"face", "bottom"}, {"vy", 0.0}});
+    j["boundary_conditions"].push_back({{"type", "bc/velocity"}, {"face", "top"}, {"vy", 0.0}});
+  }
   suffuse::test::UpwardSeepage seepage;
   seepage.L = L;
   const double q_exact = seepage.flux(), h = 0.02;
@@ -162,11 +176,11 @@ void check_steady_upward_seepage(double L) {
   std::vector<double> cell_q(cells, 0.0), cell_error(cells, 0.0), cell_points(cells, 0.0);
   double p_worst = 0;
   for (std::size_t k = 0; k < pts.size(); ++k) {
-    const double y = x[2 * k + 1] - u[2 * k + 1], z = L - y;
+    const double y = x[dim * k + dim - 1] - u[dim * k + dim - 1], z = L - y;  // height
     const auto c = std::min(cells - 1, static_cast<std::size_t>(y / h));
     p_worst = std::max(p_worst, std::abs(p[k] - seepage.pressure(y)) / seepage.pressure(0));
-    cell_q[c] += q[2 * k + 1];
-    cell_error[c] += s[6 * k + 1] + seepage.effective_stress(z);
+    cell_q[c] += q[dim * k + dim - 1];
+    cell_error[c] += s[6 * k + dim - 1] + seepage.effective_stress(z);  // sigma'_yy, sigma'_zz in 3D
     cell_points[c] += 1;
   }
   double q_worst = 0, s_worst = 0;
@@ -188,6 +202,8 @@ void check_steady_upward_seepage(double L) {
 TEST(QuasiStatic, SteadyUpwardSeepage) { check_steady_upward_seepage(1.0); }
 
 TEST(QuasiStatic, SteadyUpwardSeepageBelowASurfaceBetweenNodes) { check_steady_upward_seepage(0.99); }
+
+TEST(QuasiStatic, SteadyUpwardSeepageBelowASurfaceBetweenNodes3D) { check_steady_upward_seepage(0.99, 3); }
 
 // A dry body: share/scenes/self_weight_column.json (10 m, E = 10 MPa, no
 // liquid) in one quasi-static step: sigma_yy = -rho g (H - y) at the points,
