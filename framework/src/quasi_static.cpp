@@ -75,8 +75,6 @@ void QuasiStatic::prepare(double time, double dt) {
   node_cover_.assign(nn, 0.0);
   std::fill(f_ext_.begin(), f_ext_.end(), 0.0);
   std::fill(cell_count_.begin(), cell_count_.end(), 0.0);
-  std::fill(line_reach_.begin(), line_reach_.end(), -std::numeric_limits<double>::infinity());
-  const double* size = pts.data(c.size);
   const auto& g = scene_.gravity;
   creep_.assign(nn * dim, 0.0);  // none until a point has no stiffness (assemble)
   const bool inertia = scene_.quasi_static.inertia;
@@ -113,35 +111,9 @@ void QuasiStatic::prepare(double time, double dt) {
       stride *= d_.grid.cells()[a];
     }
     ++cell_count_[cell];
-    // How far the point's domain reaches along each axis, on the grid lines
-    // along it nearest the point (within half a cell across), at the two
-    // nodes of its cell on each.
-    for (int a = 0; a < dim; ++a) {
-      std::array<int, 3> lo{0, 0, 0}, hi{0, 0, 0};
-      for (int b = 0; b < dim; ++b) {
-        const double at = (x[p * dim + b] - d_.grid.origin()[b]) / d_.grid.cell_size()[b];
-        if (b == a) {
-          lo[b] = std::clamp(static_cast<int>(std::floor(at)), 0, d_.grid.cells()[b] - 1);
-          hi[b] = lo[b] + 1;
-        } else {
-          lo[b] = std::clamp(static_cast<int>(std::ceil(at - 0.5 - 1e-9)), 0, d_.grid.cells()[b]);
-          hi[b] = std::clamp(static_cast<int>(std::floor(at + 0.5 + 1e-9)), 0, d_.grid.cells()[b]);
-        }
-      }
-      for (int k = lo[2]; k <= hi[2]; ++k)
-        for (int j = lo[1]; j <= hi[1]; ++j)
-          for (int i = lo[0]; i <= hi[0]; ++i) {
-            const auto N = static_cast<std::size_t>(d_.grid.node_index(i, j, k));
-            for (int side = 0; side < 2; ++side) {
-              double& reach = line_reach_[(N * dim + a) * 2 + side];
-              reach = std::max(reach, (side ? -1 : 1) * x[p * dim + a] + size[p * dim + a] / 2);
-            }
-          }
-    }
   }
   for (auto* sums : {&node_mass_, &node_cover_, &f_ext_, &node_pore_, &node_volume_, &p_, &cell_count_})
     sum_over_processes(*sums);
-  d_.comm.max(line_reach_);
   // Inertia: M (du - dt v0) / dt^2 in each displacement equation, v0 the
   // nodal velocity at the start of the step (mass-weighted).
   if (inertia) {
@@ -247,42 +219,10 @@ void QuasiStatic::prepare(double time, double dt) {
         }
       }
     }
-  // Free surfaces: next to a cell inside the grid that holds no saturated point.
-  const auto& cells = d_.grid.cells();
-  std::vector<char>& surface = surface_node_;
-  surface.assign(nn, 0);
-  for (std::size_t I = 0; I < nn; ++I) {
-    if (node_pore_[I] <= 0 || fixed[I]) continue;
-    const auto ijk = d_.grid.node_ijk(static_cast<std::int64_t>(I));
-    for (int corner = 0; corner < (1 << dim) && !surface[I]; ++corner) {
-      std::int64_t cell = 0, stride = 1;
-      bool inside = true;
-      for (int a = 0; a < dim; ++a) {
-        const int ci = ijk[a] - ((corner >> a) & 1);
-        inside = inside && ci >= 0 && ci < cells[a];
-        cell += stride * ci;
-        stride *= cells[a];
-      }
-      surface[I] = inside && cell_count_[cell] == 0;
-    }
-  }
-  p_weight_.assign(nn, 1.0);
-  extrapolated_.clear();
-  for (std::size_t I = 0; I < nn; ++I)
-    if (surface[I]) {
-      fixed[I] = 1;
-      p_[I] = 0;
-      if (const auto e = extrapolation(I)) extrapolated_.push_back(*e);
-    }
+  find_free_surfaces();  // drained where the surface is (quasi_static_free_surface.cpp)
   for (std::size_t I = 0; I < nn; ++I)
     if (node_pore_[I] > 0 && !fixed[I]) p_dof_[I] = static_cast<std::int64_t>(equations_++);
-  // A surface node's pressure is then its inner node's, times the factor
-  // that puts p = 0 at the surface; its equation joins the inner node's.
-  for (const Extrapolated& e : extrapolated_) {
-    p_dof_[e.node] = p_dof_[e.from];
-    p_weight_[e.node] = e.factor;
-    p_[e.node] = e.factor * p_[e.from];
-  }
+  follow_inner_nodes();
 
   // The rest of the pressure equations' right-hand side: the storage of the
   // old pressures and the flow gravity drives, -dt sum V k rho_L g . grad N.
@@ -352,56 +292,6 @@ void QuasiStatic::follow_tail_nodes() {
       const std::size_t k = static_cast<std::size_t>(I) * dim + i;
       if (tail_weight_[I] > 0 && std::isnan(probe_.velocity[k])) du_[k] = tail_sum_[k] / tail_weight_[I];
     }
-}
-
-// A free-surface node's pressure, extrapolated linearly from the nearest
-// node inside along a grid axis (at most two cells in) to zero where the
-// body's surface crosses that line: the farthest reach of the domains of
-// the points nearest the line, not the node (the surface of a body that
-// swelled or settled, or ends inside a cell, lies between nodes, and p = 0
-// at the node would bend the pressure over the top cell: 1.2% of its
-// gradient for a quarter of a millimetre in upward_seepage.json). None
-// where no node inside is found (a corner, a body one cell thick): the
-// node is then drained.
-std::optional<QuasiStatic::Extrapolated> QuasiStatic::extrapolation(std::size_t I) const {
-  const int dim = d_.dim();
-  const auto& cells = d_.grid.cells();
-  const auto ijk = d_.grid.node_ijk(static_cast<std::int64_t>(I));
-  std::optional<Extrapolated> best;
-  int best_steps = 3;
-  double best_volume = 0;
-  for (int a = 0; a < dim; ++a)
-    for (const int in : {-1, 1})
-      for (int k = 1; k <= 2; ++k) {
-        auto m = ijk;
-        m[a] += in * k;
-        if (m[a] < 0 || m[a] > cells[a]) break;
-        const auto M = static_cast<std::size_t>(d_.grid.node_index(m[0], m[1], m[2]));
-        if (surface_node_[M]) continue;
-        if (fixed_pressure_[M] || node_pore_[M] <= 0) break;
-        if (k > best_steps || (k == best_steps && node_volume_[M] <= best_volume)) break;
-        // The points on the line from M to one node beyond I: the farthest
-        // reach outward (-in) of their domains.
-        const int side = in > 0 ? 1 : 0;
-        double reach = -std::numeric_limits<double>::infinity();
-        for (int step = 0; step <= k + 1; ++step) {
-          auto node = m;
-          node[a] -= in * step;
-          if (node[a] < 0 || node[a] > cells[a]) continue;
-          const auto N = static_cast<std::size_t>(d_.grid.node_index(node[0], node[1], node[2]));
-          reach = std::max(reach, line_reach_[(N * dim + a) * 2 + side]);
-        }
-        if (!std::isfinite(reach)) break;
-        const double h = d_.grid.cell_size()[a];
-        const double x_M = d_.grid.origin()[a] + m[a] * h;
-        // From M to the surface, outward; at least half a cell, which bounds the factor.
-        const double to_surface = std::max(reach + in * x_M, h / 2);
-        best = Extrapolated{I, M, (to_surface - k * h) / to_surface};
-        best_steps = k;
-        best_volume = node_volume_[M];
-        break;
-      }
-  return best;
 }
 
 // The stresses of the current increments (each phase's own update from the

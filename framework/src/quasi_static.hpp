@@ -190,7 +190,10 @@ class QuasiStatic {
   };
   std::vector<Extrapolated> extrapolated_;
   std::vector<double> p_weight_;
+  void measure_surface_reach();
+  void find_free_surfaces();
   std::optional<Extrapolated> extrapolation(std::size_t node) const;
+  void follow_inner_nodes();
   // Nodes whose pressure one face open to the liquid prescribes: the flux
   // through that face, from their pressure equation's residual.
   struct FaceFlux {
