@@ -38,7 +38,6 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
   std::size_t cells = 1;
   for (int a = 0; a < dim; ++a) cells *= static_cast<std::size_t>(d_.grid.cells()[a]);
   cell_count_.assign(cells, 0.0);
-  line_reach_.assign(nn * static_cast<std::size_t>(dim) * 2, 0.0);
 }
 
 QuasiStatic::~QuasiStatic() = default;

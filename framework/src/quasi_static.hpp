@@ -176,7 +176,7 @@ class QuasiStatic {
   std::vector<double> f_int_, r_p_;          // per node: internal forces of the total stress; pressure equations' residual
   std::vector<double> point_pressure_;       // p interpolated at the points (saturated ones)
   std::vector<double> cell_count_;           // saturated points per cell
-  std::vector<char> fixed_pressure_;         // per node: its pressure is prescribed (faces, free surfaces)
+  std::vector<char> fixed_pressure_;         // per node: no unknown of its own (a face prescribes it; a free surface)
   // Free surfaces: per node, axis and side (+, -), the farthest reach of the
   // domains (x + l/2, -x + l/2) of the saturated points nearest the grid
   // line through the node along that axis, in its two cells; the surface nodes; and
