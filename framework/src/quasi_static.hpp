@@ -51,11 +51,13 @@
 // liquid fixes p there (bc/pore_pressure, the pressure read from its force
 // -p n A) or brings the flux it constrains (bc/inflow_flux); grid faces
 // closed to the liquid are impermeable; a free surface (a node next to a
-// cell without saturated points) is drained, p = 0, as in explicit runs.
+// cell without saturated points) is drained where the surface is, not at
+// the node (quasi_static_free_surface.cpp).
 //
 // On many processes (docs/parallel.md) each process adds its own points'
 // terms; the nodal sums (masses, loads, forces, residuals) are then summed
-// over the processes, so every process holds every node's and takes the same
+// over the processes (the points' reach at free surfaces: its largest), so
+// every process holds every node's and takes the same
 // decisions (the unknowns, the line search, convergence). The matrix is
 // PETSc's (DistributedSystem), each process adding its points' blocks.
 #include <array>

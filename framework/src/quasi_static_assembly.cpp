@@ -289,7 +289,7 @@ void QuasiStatic::assemble(double dt) {
   if (!in_place) {
     L.matrix.resize(size, size);
     L.matrix.setFromTriplets(t.begin(), t.end());
-    // Where each triplet's value lies (an extrapolated node's share with its inner node's).
+    // Where each triplet's value lies (some share one: an extrapolated node's with its inner node's).
     const int* outer = L.matrix.outerIndexPtr();
     const int* inner = L.matrix.innerIndexPtr();
     L.value_at.resize(t.size());
