@@ -14,6 +14,20 @@
 
 namespace suffuse::detail {
 
+namespace {
+// The saturated points counted in cell c (cell_count, per cell), or -1 for
+// a cell outside the grid.
+double saturated_points(const GridGeometry& grid, const std::vector<double>& cell_count, const std::array<int, 3>& c) {
+  std::int64_t cell = 0, stride = 1;
+  for (int a = 0; a < grid.dim(); ++a) {
+    if (c[a] < 0 || c[a] >= grid.cells()[a]) return -1;
+    cell += stride * c[a];
+    stride *= grid.cells()[a];
+  }
+  return cell_count[static_cast<std::size_t>(cell)];
+}
+}  // namespace
+
 // Per node, axis and side, how far the domains of the saturated points
 // nearest the grid line through the node along that axis reach (within
 // half a cell across it; the two nodes of each point's cell on that line).
@@ -59,7 +73,6 @@ void QuasiStatic::measure_surface_reach() {
 void QuasiStatic::find_free_surfaces() {
   const int dim = d_.dim();
   const std::size_t nn = d_.grid.node_count();
-  const auto& cells = d_.grid.cells();
   measure_surface_reach();
   std::vector<char>& surface = surface_node_;
   surface.assign(nn, 0);
@@ -67,15 +80,9 @@ void QuasiStatic::find_free_surfaces() {
     if (node_pore_[I] <= 0 || fixed_pressure_[I]) continue;
     const auto ijk = d_.grid.node_ijk(static_cast<std::int64_t>(I));
     for (int corner = 0; corner < (1 << dim) && !surface[I]; ++corner) {
-      std::int64_t cell = 0, stride = 1;
-      bool inside = true;
-      for (int a = 0; a < dim; ++a) {
-        const int ci = ijk[a] - ((corner >> a) & 1);
-        inside = inside && ci >= 0 && ci < cells[a];
-        cell += stride * ci;
-        stride *= cells[a];
-      }
-      surface[I] = inside && cell_count_[cell] == 0;
+      auto c = ijk;
+      for (int a = 0; a < dim; ++a) c[a] -= (corner >> a) & 1;
+      surface[I] = saturated_points(d_.grid, cell_count_, c) == 0;
     }
   }
   extrapolated_.clear();
@@ -107,15 +114,9 @@ std::optional<QuasiStatic::Extrapolated> QuasiStatic::extrapolation(std::size_t 
     const int along = in < 0 ? ijk[a] : ijk[a] - 1;
     if (along < 0 || along >= cells[a]) return false;
     for (int beside = 0; beside < (1 << (dim - 1)); ++beside) {
-      std::int64_t cell = 0, stride = 1;
-      bool inside = true;
-      for (int b = 0, bit = 0; b < dim; ++b) {
-        const int ci = b == a ? along : ijk[b] - ((beside >> bit++) & 1);
-        inside = inside && ci >= 0 && ci < cells[b];
-        cell += stride * ci;
-        stride *= cells[b];
-      }
-      if (inside && cell_count_[static_cast<std::size_t>(cell)] > 0) return false;
+      auto c = ijk;
+      for (int b = 0, bit = 0; b < dim; ++b) c[b] = b == a ? along : ijk[b] - ((beside >> bit++) & 1);
+      if (saturated_points(d_.grid, cell_count_, c) > 0) return false;
     }
     return true;
   };
