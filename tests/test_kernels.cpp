@@ -3,6 +3,7 @@
 // content, and the soil-mechanics measures of the tensor header.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -112,6 +113,31 @@ TEST(Kernels, ScatterChunksSpanTwoLayersOfCells) {
   EXPECT_EQ(Executor(2, 40).scatter_chunk(3'200'000), 160'000u);
   EXPECT_EQ(Executor(3, 40).scatter_chunk(3'200'001), 160'002u);
   EXPECT_EQ(Executor(1).scatter_chunk(100'000'000), Executor::min_scatter_chunk);
+}
+
+// A loop is split only where each thread gets min_items_per_thread points
+// or nodes: a parallel region costs about a pass over a thousand points, and
+// splitting every pass of the default column (640 points) had made two
+// threads run it at half the speed of one. Every item is visited once.
+TEST(Kernels, SmallLoopsRunOnOneThread) {
+  Executor exec(2);
+  auto chunks = [&](std::size_t n, std::size_t items_per_unit) {
+    std::vector<std::size_t> begins(2, n + 1), visits(n, 0);
+    exec.for_chunks(n, [&](int t, std::size_t b, std::size_t e) {
+      begins[static_cast<std::size_t>(t)] = b;
+      for (std::size_t i = b; i < e; ++i) ++visits[i];
+    }, items_per_unit);
+    EXPECT_EQ(visits, std::vector<std::size_t>(n, 1)) << n << " units";
+    return std::count_if(begins.begin(), begins.end(), [&](std::size_t b) { return b <= n; });
+  };
+  const std::size_t m = Executor::min_items_per_thread;
+  EXPECT_EQ(chunks(640, 1), 1);
+  EXPECT_EQ(chunks(2 * m - 1, 1), 1);
+  EXPECT_EQ(chunks(2 * m, 1), 2);
+  EXPECT_EQ(chunks(1, 100 * m), 1) << "one unit is never split";
+  EXPECT_EQ(chunks(2, Executor::min_scatter_chunk), 2) << "two scatter chunks: one per thread";
+  EXPECT_EQ(Executor(3).threads_for(3 * m - 1, 1), 2);
+  EXPECT_EQ(Executor(1).threads_for(100 * m, 1), 1);
 }
 
 TEST(Kernels, ScatterTargetsRefuseMoreThanTheirCapacity) {
