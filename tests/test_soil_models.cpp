@@ -453,6 +453,59 @@ TEST(MohrCoulomb, ReturnsWithTheCutOffEndOnTheBoundary) {
   EXPECT_GT(on_cut_off, 500) << "the cut-off was active";
 }
 
+// A plane-strain stress (no out-of-plane shear) takes its principal stresses
+// and axes in closed form (Mohr's circle and sigma_zz); any other stress
+// Eigen's 3x3 solver. From 20,000 random plane states and in-plane
+// increments (returns to the plane, the edges, the apex and the cut-off;
+// sigma_zz the largest, the middle and the smallest principal stress;
+// isotropic in the plane), the closed form's stress, plastic strain and
+// tangent agree with the solver's, which a out-of-plane shear of 1e-30 Pa
+// sends the same state through (its effect: 1e-35 of the stresses).
+TEST(MohrCoulomb, PlaneStressesReturnAsTheGeneralSolverReturnsThem) {
+  auto params = sand;
+  params["tensile_strength"] = 2e3;
+  OnePoint plane("phase/mohr_coulomb", params), general("phase/mohr_coulomb", params);
+  std::mt19937 rng(23);
+  std::normal_distribution<double> n(0.0, 2e-3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double scale = 100e3;
+  int plastic = 0, zz_first = 0, zz_middle = 0, zz_last = 0;
+  std::vector<double> D_plane(36), D_general(36);
+  for (int k = 0; k < 20000; ++k) {
+    std::array<double, 6> start{}, de{};
+    for (int i = 0; i < 3; ++i) start[i] = -scale * (0.5 + 0.5 * u(rng));
+    start[5] = 0.3 * scale * u(rng);
+    if (k % 10 == 0) start[1] = start[0], start[5] = 0;  // isotropic in the plane
+    for (int i : {0, 1, 2, 5}) de[i] = n(rng) + (k % 4 == 0 && i < 3 ? 3e-3 : 0.0);
+    if (k % 7 == 0) de[2] = 0;  // plane strain proper
+    std::copy(start.begin(), start.end(), plane.stress());
+    std::copy(start.begin(), start.end(), general.stress());
+    general.stress()[3] = 1e-30;
+    plane.strain(de);
+    general.strain(de);
+    const double* a = plane.stress();
+    const double* b = general.stress();
+    for (int c = 0; c < 6; ++c) ASSERT_NEAR(a[c], b[c], 1e-9 * scale) << "increment " << k << ", component " << c;
+    const double* ea = plane.points.data(plane.points.id("plastic_strain"));
+    const double* eb = general.points.data(general.points.id("plastic_strain"));
+    for (int c = 0; c < 6; ++c) ASSERT_NEAR(ea[c], eb[c], 1e-12) << "increment " << k << ", component " << c;
+    const double yielding = plane.points.data(plane.points.id("yielding"))[0];
+    ASSERT_EQ(yielding, general.points.data(general.points.id("yielding"))[0]) << "increment " << k;
+    if (yielding == 0) continue;
+    ++plastic;
+    const Eigen::Vector3d s = principal(plane.points.data(plane.points.id("mohr_coulomb_trial_stress")));
+    const double zz = plane.points.data(plane.points.id("mohr_coulomb_trial_stress"))[2];
+    zz_first += zz == s[2], zz_middle += zz == s[1] && zz != s[2], zz_last += zz == s[0] && zz != s[1];
+    ASSERT_TRUE(plane.phase->tangent(suffuse::StressBatch{plane.points, {0, 1}, 1.0, {}}, D_plane));
+    ASSERT_TRUE(general.phase->tangent(suffuse::StressBatch{general.points, {0, 1}, 1.0, {}}, D_general));
+    for (int c = 0; c < 36; ++c) ASSERT_NEAR(D_plane[c], D_general[c], 1e-6 * 2e7) << "increment " << k << ", entry " << c;
+  }
+  EXPECT_GT(plastic, 5000) << "the test reached the yield surface";
+  EXPECT_GT(zz_first, 100);
+  EXPECT_GT(zz_middle, 100);
+  EXPECT_GT(zz_last, 100);
+}
+
 // The consistent tangent (Phase::tangent after a plastic step) is the
 // derivative of the returned stress by the strain increment: central
 // differences of the return agree with it for returns to the plane, the

@@ -320,16 +320,73 @@ class MohrCoulomb final : public suffuse::Phase {
     Eigen::Matrix3d axes;
     double tolerance;  // of the return, relative to the stress and the cohesion
   };
-  PrincipalAxes principal_axes(const suffuse::tensor::Matrix& s) const {
+  // A plane-strain stress (no out-of-plane shear, as in every 2D run) has
+  // the out-of-plane axis as one principal axis and the in-plane pair in
+  // closed form: one square root, where Eigen's 3x3 solver takes an acos,
+  // an atan2 and a sincos. That solver was most of the levee's stress stage,
+  // at every point and step, yielding or not.
+  static bool in_plane(const suffuse::tensor::Matrix& s) { return s[0][2] == 0 && s[1][2] == 0; }
+  // The in-plane principal stresses: centre m and radius r of Mohr's circle.
+  static void mohr_circle(const suffuse::tensor::Matrix& s, double& m, double& h, double& r) {
+    m = 0.5 * (s[0][0] + s[1][1]), h = 0.5 * (s[0][0] - s[1][1]);
+    r = std::sqrt(h * h + s[0][1] * s[0][1]);
+  }
+  // {hi, lo, zz} sorted descending: order[k] is the index of s_k among them.
+  static std::array<int, 3> descending(const Vec3& v) {
+    std::array<int, 3> order{0, 1, 2};  // v[0] >= v[1] always (hi, lo)
+    if (v[2] > v[0])
+      order = {2, 0, 1};
+    else if (v[2] > v[1])
+      order = {0, 2, 1};
+    return order;
+  }
+  static Eigen::Matrix3d to_eigen(const suffuse::tensor::Matrix& s) {
     Eigen::Matrix3d m;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) m(i, j) = s[i][j];
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(m);  // ascending eigenvalues
+    return m;
+  }
+  double tolerance_of(const Vec3& values) const {
+    return 1e-12 * (std::abs(values[0]) + std::abs(values[2]) + cohesion_);
+  }
+  // The principal stresses alone, sorted: all an elastic step needs.
+  Vec3 principal_values(const suffuse::tensor::Matrix& s) const {
+    if (!in_plane(s)) {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(to_eigen(s), Eigen::EigenvaluesOnly);  // the values principal_axes finds
+      return {eig.eigenvalues()(2), eig.eigenvalues()(1), eig.eigenvalues()(0)};
+    }
+    double m, h, r;
+    mohr_circle(s, m, h, r);
+    const Vec3 v{m + r, m - r, s[2][2]};
+    const auto k = descending(v);
+    return {v[k[0]], v[k[1]], v[k[2]]};
+  }
+  PrincipalAxes principal_axes(const suffuse::tensor::Matrix& s) const {
     PrincipalAxes out;
-    out.values = {eig.eigenvalues()(2), eig.eigenvalues()(1), eig.eigenvalues()(0)};
-    out.axes = eig.eigenvectors().rowwise().reverse();
-    out.tolerance = 1e-12 * (std::abs(out.values[0]) + std::abs(out.values[2]) + cohesion_);
+    if (in_plane(s)) {
+      double m, h, r;
+      mohr_circle(s, m, h, r);
+      const Vec3 v{m + r, m - r, s[2][2]};
+      // The major in-plane axis from the better conditioned row of (s - hi I) x = 0.
+      const double c = s[0][1];
+      double x = h >= 0 ? h + r : c, y = h >= 0 ? c : r - h;
+      const double length = std::sqrt(x * x + y * y);
+      if (length > 0)
+        x /= length, y /= length;
+      else
+        x = 1, y = 0;  // isotropic in the plane: any pair of axes
+      Eigen::Matrix3d axes;
+      axes << x, -y, 0, y, x, 0, 0, 0, 1;  // columns: hi, lo, zz
+      const auto k = descending(v);
+      for (int a = 0; a < 3; ++a) out.values[a] = v[k[a]], out.axes.col(a) = axes.col(k[a]);
+    } else {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(to_eigen(s));  // ascending eigenvalues
+      out.values = {eig.eigenvalues()(2), eig.eigenvalues()(1), eig.eigenvalues()(0)};
+      out.axes = eig.eigenvectors().rowwise().reverse();
+    }
+    out.tolerance = tolerance_of(out.values);
     return out;
   }
 
@@ -346,13 +403,14 @@ class MohrCoulomb final : public suffuse::Phase {
       const auto [d, w] = increments(p);
       double* s6 = stress + p * 6;
       const t::Matrix trial = t::jaumann_elastic_increment(t::to_matrix(s6), d, w, G_, lambda_);
-      const PrincipalAxes pa = principal_axes(trial);
-      const Vec3& principal = pa.values;
-      if (return_.admissible(principal, pa.tolerance)) {
+      const Vec3 values = principal_values(trial);
+      if (return_.admissible(values, tolerance_of(values))) {
         t::store(trial, s6);
         yielding[p] = 0;
         continue;
       }
+      const PrincipalAxes pa = principal_axes(trial);
+      const Vec3& principal = pa.values;
       t::store(trial, trial_stress + p * 6);
       const Vec3 s = return_(principal, pa.tolerance).stress;
       // Back to the axes of the trial stress; the plastic strain is D^-1 of the stress removed.
