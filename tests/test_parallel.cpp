@@ -183,7 +183,8 @@ TEST(Parallel, FallingBlockEqualsSerial) {
   scene["time"]["end"] = 0.2;
   expect_equal_to_serial("falling_block", scene, {2, 3});
 #ifdef SUFFUSE_TEST_THREADS
-  // Threads within processes: each process's nodal loops split its range.
+  // Threads within processes: each process's loops split its points (6,400
+  // each) and its nodes where each thread gets 1,024 of them.
   const fs::path dir = fs::temp_directory_path() / "suffuse_parallel_falling_block";
   ASSERT_EQ(run(dir / "falling_block.json", dir / "np2x2", 2, 2), 0) << slurp(dir / "np2x2" / "log");
   EXPECT_TRUE(slurp(dir / "np2x2" / "falling_block.checkpoint") == slurp(dir / "serial" / "falling_block.checkpoint"));

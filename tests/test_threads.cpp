@@ -4,7 +4,9 @@
 // kernels round each lane as the scalar code would (kernel_isa.hpp). Whole
 // runs on 1, 2 and 3 threads and on the portable and AVX2 kernels, compared
 // bit for bit in every point field and the mass ledger, on scenes of several
-// scatter chunks (the kernel-level checks are in test_kernels.cpp and
+// scatter chunks and enough nodes that the node loops split too (a loop
+// splits where each thread gets Executor::min_items_per_thread points or
+// nodes; the kernel-level checks are in test_kernels.cpp and
 // test_vector_kernels.cpp). Compared bit for bit: +0 and -0 differ.
 #include <gtest/gtest.h>
 
@@ -41,6 +43,8 @@ void expect_the_same_for_any_thread_count(const nlohmann::json& j, int steps) {
   for (int k = 0; k < steps; ++k) serial.step();
   const auto& a = serial.points();
   ASSERT_GT(a.size(), 3 * suffuse::detail::Executor::min_scatter_chunk) << "the scene must span several chunks";
+  ASSERT_GE(serial.grid().node_count(), 2 * suffuse::detail::Executor::min_items_per_thread)
+      << "the node loops must split between two threads";
   struct Run {
     int threads;
     const char* isa;
@@ -70,11 +74,12 @@ void expect_the_same_for_any_thread_count(const nlohmann::json& j, int steps) {
 }
 
 // The eroding 2D bench column at a quarter of its resolution: 6,240 two-phase
-// points (four chunks), GIMP, erosion and transport every step.
+// points (four chunks), GIMP, erosion and transport every step; the grid
+// reaches 3 m above it, so that its 2,120 nodes split between two threads.
 TEST(Threads, ErodingColumnIsBitForBitTheSame) {
   auto j = read_json(source_dir() / "share/scenes/bench_suffusion_column.json");
   j["grid"]["cell_size"] = {0.25, 0.25};
-  j["grid"]["cells"] = {39, 42};
+  j["grid"]["cells"] = {39, 52};
   expect_the_same_for_any_thread_count(j, 40);
 }
 

@@ -484,8 +484,9 @@ TEST(TwoPhase, PermeabilityLaws) {
 }
 
 
-// Two threads give the numbers of one thread in a saturated run too (eight
-// nodal arrays are scattered per step).
+// Two threads give the numbers of one thread in a saturated run too. A scene
+// this small runs its loops on one thread whatever the thread count
+// (Executor::min_items_per_thread); test_threads.cpp compares the splits.
 TEST(TwoPhase, ThreadsAgreeWithSerial) {
   auto j = read_json(source_dir() / "share/scenes/upward_seepage.json");
   j["outputs"] = nlohmann::json::array();

@@ -168,8 +168,10 @@ TEST(Verification, Deterministic) {
   }
 }
 
-// Two threads give the numbers of one thread, bit for bit (test_threads.cpp
-// has scenes of several scatter chunks).
+// Two threads give the numbers of one thread, bit for bit. A column this
+// small runs its loops on one thread whatever the thread count
+// (Executor::min_items_per_thread); test_threads.cpp has scenes whose loops
+// split, of several scatter chunks.
 TEST(Verification, ThreadsAgreeWithSerial) {
   suffuse::Registry registry;
   auto j = read_json(source_dir() / "share/scenes/self_weight_column.json");

@@ -322,14 +322,18 @@ class MohrCoulomb final : public suffuse::Phase {
   };
   // A plane-strain stress (no out-of-plane shear, as in every 2D run) has
   // the out-of-plane axis as one principal axis and the in-plane pair in
-  // closed form: one square root, where Eigen's 3x3 solver takes an acos,
-  // an atan2 and a sincos. That solver was most of the levee's stress stage,
-  // at every point and step, yielding or not.
-  static bool in_plane(const suffuse::tensor::Matrix& s) { return s[0][2] == 0 && s[1][2] == 0; }
-  // The in-plane principal stresses: centre m and radius r of Mohr's circle.
-  static void mohr_circle(const suffuse::tensor::Matrix& s, double& m, double& h, double& r) {
+  // closed form: one square root, where Eigen's 3x3 solver takes an atan2, a
+  // cos and a sin, and cross products for the axes. That solver was most of
+  // the levee's stress stage, at every point and step, yielding or not.
+  // The in-plane principal stresses m +- r (centre and radius of Mohr's
+  // circle, h the half difference of s_xx and s_yy), if s is such a stress
+  // and they and s_zz are finite; anything else (a NaN, an overflow) goes
+  // through Eigen's solver, as every stress did before, and stays NaN.
+  static bool mohr_circle(const suffuse::tensor::Matrix& s, double& m, double& h, double& r) {
+    if (!(s[0][2] == 0 && s[1][2] == 0)) return false;
     m = 0.5 * (s[0][0] + s[1][1]), h = 0.5 * (s[0][0] - s[1][1]);
     r = std::sqrt(h * h + s[0][1] * s[0][1]);
+    return std::isfinite(m) && std::isfinite(r) && std::isfinite(s[2][2]);
   }
   // {hi, lo, zz} sorted descending: order[k] is the index of s_k among them.
   static std::array<int, 3> descending(const Vec3& v) {
@@ -351,31 +355,34 @@ class MohrCoulomb final : public suffuse::Phase {
   }
   // The principal stresses alone, sorted: all an elastic step needs.
   Vec3 principal_values(const suffuse::tensor::Matrix& s) const {
-    if (!in_plane(s)) {
+    double m, h, r;
+    if (!mohr_circle(s, m, h, r)) {
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
       eig.computeDirect(to_eigen(s), Eigen::EigenvaluesOnly);  // the values principal_axes finds
       return {eig.eigenvalues()(2), eig.eigenvalues()(1), eig.eigenvalues()(0)};
     }
-    double m, h, r;
-    mohr_circle(s, m, h, r);
     const Vec3 v{m + r, m - r, s[2][2]};
     const auto k = descending(v);
     return {v[k[0]], v[k[1]], v[k[2]]};
   }
   PrincipalAxes principal_axes(const suffuse::tensor::Matrix& s) const {
     PrincipalAxes out;
-    if (in_plane(s)) {
-      double m, h, r;
-      mohr_circle(s, m, h, r);
+    double m, h, r;
+    if (mohr_circle(s, m, h, r)) {
       const Vec3 v{m + r, m - r, s[2][2]};
-      // The major in-plane axis from the better conditioned row of (s - hi I) x = 0.
+      // The major in-plane axis from the better conditioned row of (s - hi I)
+      // x = 0 (its larger component is at least r), scaled by that component
+      // first so that a tiny shear does not underflow its length.
       const double c = s[0][1];
       double x = h >= 0 ? h + r : c, y = h >= 0 ? c : r - h;
-      const double length = std::sqrt(x * x + y * y);
-      if (length > 0)
+      const double larger = std::max(std::abs(x), std::abs(y));
+      if (larger > 0) {
+        x /= larger, y /= larger;
+        const double length = std::sqrt(x * x + y * y);
         x /= length, y /= length;
-      else
+      } else {
         x = 1, y = 0;  // isotropic in the plane: any pair of axes
+      }
       Eigen::Matrix3d axes;
       axes << x, -y, 0, y, x, 0, 0, 0, 1;  // columns: hi, lo, zz
       const auto k = descending(v);
