@@ -13,11 +13,11 @@
 #include <suffuse/shape_function.hpp>
 #include <vector>
 
-#include "domain.hpp"
-#include "executor.hpp"
-#include "solid_kernels.hpp"
-#include "species_kernels.hpp"
-#include "two_phase_kernels.hpp"
+#include "mpm/domain.hpp"
+#include "parallel/executor.hpp"
+#include "mpm/solid_kernels.hpp"
+#include "transport/species_kernels.hpp"
+#include "mixture/two_phase_kernels.hpp"
 
 namespace {
 

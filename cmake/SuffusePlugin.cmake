@@ -35,5 +35,6 @@ function(suffuse_add_plugin name)
     # A bundled plugin: built next to the core and installed with it.
     set_target_properties(${name} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${SUFFUSE_PLUGIN_OUTPUT_DIR})
     install(TARGETS ${name} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/${SUFFUSE_PLUGIN_SUBDIR})
+    set_property(GLOBAL APPEND PROPERTY SUFFUSE_BUNDLED_PLUGINS ${name})
   endif()
 endfunction()

@@ -13,7 +13,7 @@
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/scene.hpp>
 
-#include "validation.hpp"
+#include "scene/validation.hpp"
 
 namespace {
 

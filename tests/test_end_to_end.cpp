@@ -7,6 +7,7 @@
 #include <vtkPolyData.h>
 #include <vtkCellData.h>
 #include <vtkImageData.h>
+#include <vtkInformation.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
@@ -17,6 +18,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -356,8 +358,9 @@ TEST(EndToEnd, SuffusionColumnWritesItsLedger) {
   const auto rows = read_csv(out / "column.ledger.csv");
   ASSERT_GT(rows.size(), 100u);
   const auto& header = rows.front();
-  auto column = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
+  auto column = [&](const std::string& name) {  // by the name before its unit, "time [s]"
+    const auto it = std::find_if(header.begin(), header.end(),
+                                 [&](const std::string& h) { return h.substr(0, h.find(" [")) == name; });
     EXPECT_NE(it, header.end()) << name;
     return static_cast<std::size_t>(it - header.begin());
   };
@@ -638,4 +641,138 @@ TEST(EndToEnd, FailingPluginIsNamedAndOutputsStayReadable) {
     reader->Update();
     EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 80);
   }
+}
+
+// An erosion law, a permeability law or a boundary condition that throws
+// during a step: the run stops naming the plugin, its material (or the
+// condition's pointer), the step and stage, and the points of the batch.
+TEST(EndToEnd, FailingLawOrConditionIsNamedWithItsMaterialAndStep) {
+  const fs::path out = fresh_dir("failing_laws");
+  const auto column = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  const std::string material = "/materials/gap_graded_sand";
+  struct Case {
+    std::string name;
+    nlohmann::json scene;
+    std::vector<std::string> said;  // pieces of the message, in order
+  };
+  std::vector<Case> cases;
+  auto scene = [&] {
+    auto j = column;
+    j["plugin_paths"] = {std::string(SUFFUSE_TEST_PLUGIN_DIR) + "/failing"};
+    j["time"]["end"] = 2.0;
+    j["outputs"] = nlohmann::json::array();
+    return j;
+  };
+  auto erosion = scene();
+  erosion["materials"]["gap_graded_sand"]["erosion"] = {{"type", "erosion/test_failing"}};
+  cases.push_back({"erosion", erosion,
+                   {"error: step 1 (t = 0 s), stage erosion: erosion law erosion/test_failing of material "
+                    "'gap_graded_sand' (" + material + "/erosion) failed on material points 0 to ",
+                    " of body 'column': the test erosion law fails"}});
+  auto permeability = scene();
+  permeability["materials"]["gap_graded_sand"]["permeability"] = {
+      {"type", "permeability/test_failing"}, {"hydraulic_conductivity", 0.04}, {"fail_above_porosity", 0.3001}};
+  cases.push_back({"permeability", permeability,
+                   {"error: step ", "stage permeability: permeability law permeability/test_failing of material "
+                    "'gap_graded_sand' (" + material + "/permeability) failed on material points ",
+                    " of body 'column': the test permeability law fails at porosity 0.300"}});
+  auto condition = scene();
+  condition["boundary_conditions"].push_back({{"type", "bc/test_failing"}, {"fail_at", 0.01}});
+  const std::string pointer = "/boundary_conditions/" + std::to_string(condition["boundary_conditions"].size() - 1);
+  cases.push_back({"condition", condition,
+                   {"error: step ", "), stage grid: boundary condition bc/test_failing (" + pointer +
+                    ") failed: the test condition fails"}});
+  for (const Case& c : cases) {
+    const fs::path file = out / (c.name + ".json");
+    std::ofstream(file) << c.scene.dump(2);
+    EXPECT_EQ(run("run " + file.string() + " --quiet --output " + (out / c.name).string(), out / "log.txt"), 1)
+        << c.name;
+    const std::string log = slurp(out / "log.txt");
+    std::size_t at = 0;
+    for (const std::string& piece : c.said) {
+      at = log.find(piece, at);
+      ASSERT_NE(at, std::string::npos) << c.name << ": " << piece << "\nin: " << log;
+    }
+  }
+}
+
+// Every CSV column and every VTK array of a run says its unit
+// (docs/outputs.md, Units): the probes, the ledger, the reactions, the
+// element tests, the points' and the grid's arrays. In 2D, masses are per
+// metre of thickness.
+TEST(EndToEnd, EveryOutputSaysItsUnits) {
+  const fs::path out = fresh_dir("units");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  j["time"]["end"] = 0.05;
+  j["boundary_conditions"][0]["reaction"] = "base";
+  j["outputs"] = {{{"type", "writer/vtk_particles"}},
+                  {{"type", "writer/vtk_grid"}},
+                  {{"type", "writer/csv_probe"}, {"name", "top"}, {"face", "top"}, {"fields", {"fines_discharged"}}},
+                  {{"type", "writer/csv_probe"}, {"name", "point"}, {"at", {0.02, 0.2}},
+                   {"fields", {"displacement", "porosity", "skeleton_fines", "stress"}}},
+                  {{"type", "writer/csv_probe"}, {"name", "box"}, {"box_min", {0, 0}}, {"box_max", {0.04, 0.1}},
+                   {"fields", {"liquid_mass"}}, {"reduce", "sum"}}};
+  std::ofstream(out / "column.json") << j.dump(2);
+  ASSERT_EQ(run("run " + (out / "column.json").string() + " --quiet --output " + (out / "run").string(),
+                out / "log.txt"),
+            0)
+      << slurp(out / "log.txt");
+  ASSERT_EQ(run("element " + (suffuse::test::source_dir() / "share/scenes/triaxial_mcc.json").string() +
+                    " --quiet --output " + (out / "run").string(),
+                out / "element.log"),
+            0)
+      << slurp(out / "element.log");
+
+  const std::regex with_unit(R"(^[^\[\]]+ \[[^\[\]]+\]$)");
+  std::map<std::string, std::string> units;  // "file: column" -> unit, for the spot checks below
+  std::size_t csvs = 0, arrays = 0;
+  for (const auto& e : fs::directory_iterator(out / "run")) {
+    const fs::path file = e.path();
+    const std::string name = file.filename();
+    if (file.extension() == ".csv") {
+      ++csvs;
+      std::istringstream header(slurp(file).substr(0, slurp(file).find('\n')));
+      for (std::string cell; std::getline(header, cell, ',');) {
+        EXPECT_TRUE(std::regex_match(cell, with_unit)) << name << ": column \"" << cell << "\" gives no unit";
+        const std::size_t bracket = cell.find(" [");
+        if (bracket != std::string::npos) units[name + ": " + cell.substr(0, bracket)] = cell.substr(bracket + 2, cell.size() - bracket - 3);
+      }
+    }
+    vtkDataSet* data = nullptr;
+    vtkNew<vtkXMLPolyDataReader> points;
+    vtkNew<vtkXMLImageDataReader> grid;
+    if (file.extension() == ".vtp") {
+      points->SetFileName(file.c_str());
+      points->Update();
+      data = points->GetOutput();
+    } else if (file.extension() == ".vti") {
+      grid->SetFileName(file.c_str());
+      grid->Update();
+      data = grid->GetOutput();
+    }
+    if (!data) continue;
+    for (vtkFieldData* fields : {static_cast<vtkFieldData*>(data->GetPointData()),
+                                 static_cast<vtkFieldData*>(data->GetCellData())})
+      for (int a = 0; a < fields->GetNumberOfArrays(); ++a) {
+        vtkAbstractArray* array = fields->GetAbstractArray(a);
+        ++arrays;
+        vtkInformation* info = array->GetInformation();
+        const char* unit = info->Has(vtkDataArray::UNITS_LABEL()) ? info->Get(vtkDataArray::UNITS_LABEL()) : nullptr;
+        ASSERT_TRUE(unit && *unit) << name << ": array " << array->GetName() << " gives no unit";
+        units[std::string(file.extension() == ".vtp" ? "points" : "grid") + ": " + array->GetName()] = unit;
+      }
+  }
+  EXPECT_EQ(csvs, 6u) << "ledger, reactions, three probes, the element test";
+  EXPECT_GT(arrays, 20u);
+  EXPECT_EQ(units["column.ledger.csv: skeleton_fines"], "kg/m");
+  EXPECT_EQ(units["column.ledger.csv: fines_imbalance"], "-");
+  EXPECT_EQ(units["column.box.csv: liquid_mass"], "kg/m");
+  EXPECT_EQ(units["column.point.csv: skeleton_fines"], "kg/m");
+  EXPECT_EQ(units["points: mass"], "kg/m");
+  EXPECT_EQ(units["points: volume"], "m^2");
+  EXPECT_EQ(units["points: porosity"], "-");
+  EXPECT_EQ(units["grid: mass"], "kg/m");
+  EXPECT_EQ(units["grid: pore_pressure"], "Pa");
+  EXPECT_EQ(units["grid: point_count"], "-");
+  EXPECT_EQ(units["triaxial_mcc.element.csv: increment"], "-");
 }

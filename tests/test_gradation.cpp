@@ -208,7 +208,7 @@ std::string error_of(const fs::path& file) {
 TEST(GradationInput, SizesNotIncreasingNameTheLine) {
   const fs::path f = write_psd("a.csv", "size [mm], passing [%]\n0.1, 0\n0.5, 40\n0.4, 60\n1, 100\n");
   EXPECT_EQ(error_of(f), f.string() + ":4: sizes not increasing: expected a size above the previous row's 0.5 "
-                                      "(smallest size first), found 0.4");
+                                      "(smallest sieve first), found 0.4");
 }
 
 TEST(GradationInput, PercentPassingDecreasingOrOutOfRangeNameTheLine) {
@@ -235,7 +235,7 @@ TEST(GradationInput, TooFewPointsAndUnitsMissing) {
 TEST(GradationInput, JsonProblemsNameTheJsonPointer) {
   const fs::path f = write_psd("g.json", R"({"size_unit": "um", "points": [[100, 0], [500, 40], [400, 100]]})");
   EXPECT_EQ(error_of(f), f.string() + ": /points/2/0: sizes not increasing: expected a size above the previous "
-                                      "row's 0.5 (smallest size first), found 0.4");
+                                      "row's 0.5 (smallest sieve first), found 0.4");
   const fs::path g = write_psd("h.json", R"({"size_unit": "um", "points": [[100, 0], "x", [400, 100]]})");
   EXPECT_EQ(error_of(g), g.string() + ": /points/1: not a pair of numbers: expected [size, percent passing], "
                                       "found string \"x\"");
@@ -254,6 +254,34 @@ TEST(GradationInput, SizesInMicrometresAreConvertedToMillimetres) {
   const Gradation g = suffuse::read_gradation_file(f);
   EXPECT_EQ(g.sizes_mm().front(), 0.1);
   EXPECT_EQ(g.sizes_mm().back(), 1.0);
+}
+
+// Laboratory sheets list sieves from the largest down: the same curve either
+// way round, and a row out of order named in the table's own order.
+TEST(GradationInput, TablesListedFromTheLargestSieveDownAreReadAsTheSameCurve) {
+  const fs::path up = write_psd("up.csv", "size [mm], passing [%]\n0.075, 5\n0.425, 35\n2, 35\n4.75, 60\n19, 100\n");
+  const fs::path down =
+      write_psd("down.csv", "sieve size [mm], percent passing [%]\n19, 100\n4.75, 60\n2, 35\n0.425, 35\n0.075, 5\n");
+  const Gradation a = suffuse::read_gradation_file(up), b = suffuse::read_gradation_file(down);
+  EXPECT_EQ(a.order(), suffuse::SieveOrder::smallest_first);
+  EXPECT_EQ(b.order(), suffuse::SieveOrder::largest_first);
+  EXPECT_EQ(a.sizes_mm(), b.sizes_mm());
+  EXPECT_EQ(a.passing_points(), b.passing_points());
+  const auto sa = suffuse::assess_internal_stability(a), sb = suffuse::assess_internal_stability(b);
+  ASSERT_EQ(sa.criteria.size(), sb.criteria.size());
+  for (std::size_t k = 0; k < sa.criteria.size(); ++k) EXPECT_EQ(sa.criteria[k].verdict, sb.criteria[k].verdict);
+  EXPECT_EQ(sa.unstable(), sb.unstable());
+
+  const fs::path bad = write_psd("down_bad.csv", "size [mm], passing [%]\n19, 100\n4.75, 60\n6, 35\n0.075, 5\n");
+  EXPECT_EQ(error_of(bad), bad.string() + ":4: sizes not decreasing: expected a size below the previous row's 4.75 "
+                                          "(largest sieve first), found 6");
+  const fs::path rising = write_psd("down_rising.csv", "size [mm], passing [%]\n19, 100\n4.75, 60\n2, 70\n0.075, 5\n");
+  EXPECT_EQ(error_of(rising), rising.string() + ":4: percent passing increases: expected at most the previous row's 60 "
+                                                "(a cumulative curve), found 70");
+  const fs::path short_of_all = write_psd("down_90.csv", "size [mm], passing [%]\n19, 90\n4.75, 60\n0.075, 5\n");
+  EXPECT_EQ(error_of(short_of_all), short_of_all.string() + ":2: the curve does not reach 100 percent passing: "
+                                                            "expected 100 at the largest size (the whole sample "
+                                                            "passes it), found 90");
 }
 
 // ---------------------------------------------------------------------------
@@ -289,6 +317,19 @@ TEST(GradationCommand, PrintsATableWithEveryCriterionAndTheErodibleFines) {
                            "Burenkova (1993)", "Modified Burenkova", "Wan and Fell (2008)", "Chang and Zhang (2013)"})
     EXPECT_NE(out.find(name), std::string::npos) << name;
   EXPECT_NE(out.find("erodible fines content: 35 %"), std::string::npos) << out;
+}
+
+TEST(GradationCommand, SaysWhichOrderItReadTheSievesIn) {
+  const fs::path dir = fresh_dir("order");
+  std::ofstream(dir / "down.csv") << "size [mm], passing [%]\n19, 100\n4.75, 60\n2, 35\n0.425, 35\n0.075, 5\n";
+  ASSERT_EQ(gradation(dir, "down.csv"), 0) << slurp(dir / "log.txt");
+  EXPECT_NE(slurp(dir / "log.txt").find("down.csv: 5 points (read largest sieve first), 0.075-19 mm"),
+            std::string::npos)
+      << slurp(dir / "log.txt");
+  ASSERT_EQ(gradation(dir, "down.csv --json"), 0) << slurp(dir / "log.txt");
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir / "log.txt"))["read_order"], "largest sieve first");
+  ASSERT_EQ(gradation(dir, dem), 0);
+  EXPECT_NE(slurp(dir / "log.txt").find("(read smallest sieve first)"), std::string::npos);
 }
 
 TEST(GradationCommand, JsonHasTheSameVerdicts) {

@@ -10,8 +10,8 @@
 #include <suffuse/tensor.hpp>
 #include <vector>
 
-#include "executor.hpp"
-#include "species_kernels.hpp"
+#include "parallel/executor.hpp"
+#include "transport/species_kernels.hpp"
 
 namespace {
 

@@ -389,8 +389,13 @@ void expect_close_to_serial(const std::string& name, const json& scene, const st
     EXPECT_NE(slurp(out / "log").find(std::to_string(n) + " processes"), std::string::npos) << slurp(out / "log");
     const Checkpoint other = read_checkpoint(out / (name + ".checkpoint"));
     EXPECT_EQ(other.header.at("steps"), serial.header.at("steps")) << name << " on " << n << " processes";
+    // The end's checkpoint holds the state before the last, shortened step:
+    // its time is the sum of adaptive steps, which follow the round-off of
+    // the erosion they limit, so it is held to the fields' tolerance (the
+    // end it stands for is the same).
+    EXPECT_EQ(other.header.value("ends_run_at", -1.0), serial.header.value("ends_run_at", -1.0));
     EXPECT_NEAR(other.header.at("time").get<double>(), serial.header.at("time").get<double>(),
-                1e-12 * serial.header.at("time").get<double>());
+                tolerance * serial.header.at("time").get<double>());
     ASSERT_EQ(other.values.size(), serial.values.size());
     for (std::size_t f = 0; f < serial.values.size(); ++f) {
       const auto& [field, a] = serial.values[f];

@@ -1,5 +1,5 @@
 // Points sorted again into the grid's order when they mixed
-// (/sort_points_at_spread, framework/src/point_order.hpp): a sort changes the
+// (/sort_points_at_spread, framework/src/mpm/point_order.hpp): a sort changes the
 // points' numbers and the order of the sums, not the physics beyond
 // round-off; what keeps point numbers (a loaded surface, a followed point, a
 // restarted run) follows. Many processes: tests/test_parallel.cpp.

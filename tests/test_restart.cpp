@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <suffuse/error.hpp>
 #include <suffuse/plugin_loader.hpp>
@@ -120,6 +121,54 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Restart,
                              Case{"footing_mc", 0.1, nullptr},
                              // quasi-static steps: adaptive sizes, erosion and transport substeps
                              Case{"suffusion_column_1h", 30.0, nullptr}),
+                         [](const auto& info) { return std::string(info.param.scene); });
+
+// A finished run extended to a later end time is the run given that end
+// from the start, bit for bit: its end's checkpoint holds the state before
+// its last step, which was shortened to land on the old end.
+class Extension : public ::testing::TestWithParam<Case> {};
+
+double checkpoint_time(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string magic, header;
+  std::getline(in, magic);
+  std::getline(in, header);
+  return nlohmann::json::parse(header).at("time").get<double>();
+}
+
+TEST_P(Extension, IsBitForBitTheRunGivenTheLaterEndFromTheStart) {
+  const std::string name = GetParam().scene;
+  const double first_end = GetParam().end, later_end = 2 * GetParam().end;
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes" / (name + ".json"));
+  j["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", first_end / 4}}};
+  auto run = [&](double end, const fs::path& dir, const fs::path& restart) {
+    j["time"]["end"] = end;
+    suffuse::Registry registry;
+    suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+    scene.name = name;
+    auto sim = std::make_unique<suffuse::Simulation>(scene, registry, 1);
+    suffuse::RunOptions options;
+    options.output_dir = dir;
+    options.restart = restart;
+    sim->run(options);
+    return sim;
+  };
+  const fs::path extended = fresh_dir(name + "_extended"), whole = fresh_dir(name + "_whole");
+  run(first_end, extended, {});
+  const fs::path checkpoint = extended / (name + ".checkpoint");
+  ASSERT_LT(checkpoint_time(checkpoint), first_end) << "the premise: the first run's last step was shortened";
+  EXPECT_FALSE(fs::exists(extended / (name + ".checkpoint.end")));
+  const auto b = run(later_end, extended, checkpoint);
+  const auto c = run(later_end, whole, {});
+  EXPECT_EQ(b->steps(), c->steps());
+  EXPECT_EQ(b->time(), c->time());
+  expect_same_points(b->points(), c->points());
+  EXPECT_EQ(slurp(extended / (name + ".checkpoint")), slurp(whole / (name + ".checkpoint")));
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, Extension,
+                         ::testing::Values(Case{"suffusion_column", 0.1, nullptr},     // eroding, explicit
+                                           Case{"suffusion_column_1h", 13.7, nullptr}),  // quasi-static
                          [](const auto& info) { return std::string(info.param.scene); });
 
 class RestartRefused : public ::testing::Test {

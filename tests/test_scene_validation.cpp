@@ -404,7 +404,7 @@ TEST(SceneValidation, AllErrorsAreReportedTogether) {
 // giving one diagnostic (the comments say where, and how it failed).
 
 TEST(SceneValidation, OutOfRangeDampingIsADiagnostic) {
-  // Was (framework/src/scene.cpp, SceneReader::read): top.number("damping") was
+  // Was (framework/src/scene/scene.cpp, SceneReader::read): top.number("damping") was
   // read unconditionally; when validation rejected the value there was neither
   // a value nor a default, so Parameters::number threw suffuse::Error
   // ("parameter 'damping' was not declared in the schema or has no value")
@@ -416,7 +416,7 @@ TEST(SceneValidation, OutOfRangeDampingIsADiagnostic) {
 }
 
 TEST(SceneValidation, OutOfRangeCflIsADiagnostic) {
-  // Was (framework/src/scene.cpp, read_time): t.number("cfl") threw
+  // Was (framework/src/scene/scene.cpp, read_time): t.number("cfl") threw
   // suffuse::Error when the given cfl failed validation.
   json j = base_scene();
   j["time"]["cfl"] = 2;
@@ -424,7 +424,7 @@ TEST(SceneValidation, OutOfRangeCflIsADiagnostic) {
 }
 
 TEST(SceneValidation, GravityOfWrongTypeIsADiagnostic) {
-  // Was (framework/src/scene.cpp, SceneReader::read): top.vector("gravity")
+  // Was (framework/src/scene/scene.cpp, SceneReader::read): top.vector("gravity")
   // threw suffuse::Error when the given gravity failed validation.
   json j = base_scene();
   j["gravity"] = "down";
@@ -439,7 +439,7 @@ TEST(SceneValidation, GravityOfWrongTypeIsADiagnostic) {
 }
 
 TEST(SceneValidation, WrongKindOfWriterIsReportedOnlyOnce) {
-  // Was (framework/src/scene.cpp, read_outputs): when /outputs/N/type names a
+  // Was (framework/src/scene/scene.cpp, read_outputs): when /outputs/N/type names a
   // plugin of another kind, the keys of the node were checked by the core
   // "output" schema against that other plugin's keys, so a valid writer key
   // such as "compress" was also reported as an unknown key.
@@ -450,7 +450,7 @@ TEST(SceneValidation, WrongKindOfWriterIsReportedOnlyOnce) {
 }
 
 TEST(SceneValidation, DescriptionOfWrongTypeIsADiagnostic) {
-  // Was (framework/src/scene.cpp, SceneReader::read): top.string("description")
+  // Was (framework/src/scene/scene.cpp, SceneReader::read): top.string("description")
   // threw suffuse::Error when the given description failed validation.
   json j = base_scene();
   j["description"] = 5;
@@ -458,7 +458,7 @@ TEST(SceneValidation, DescriptionOfWrongTypeIsADiagnostic) {
 }
 
 TEST(SceneValidation, UnknownKeyInOutputIsReportedOnce) {
-  // Was (framework/src/scene.cpp, read_outputs): an unknown key of a writer
+  // Was (framework/src/scene/scene.cpp, read_outputs): an unknown key of a writer
   // node was reported twice, once by the writer plugin's schema (in
   // plugin_node) and once by the core "output" schema.
   json j = base_scene();

@@ -9,7 +9,7 @@
 #include <tuple>
 #include <suffuse/plugin_loader.hpp>
 
-#include "point_supports.hpp"
+#include "mpm/point_supports.hpp"
 
 namespace {
 

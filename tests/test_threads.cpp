@@ -17,7 +17,7 @@
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/simulation.hpp>
 
-#include "executor.hpp"
+#include "parallel/executor.hpp"
 #include "test_support.hpp"
 
 namespace {

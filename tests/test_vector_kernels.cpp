@@ -19,13 +19,13 @@
 #include <string>
 #include <vector>
 
-#include "kernel_isa.hpp"
-#include "point_supports.hpp"
+#include "parallel/kernel_isa.hpp"
+#include "mpm/point_supports.hpp"
 #include "test_support.hpp"
-#include "solid_kernels.hpp"
-#include "species_kernels.hpp"
+#include "mpm/solid_kernels.hpp"
+#include "transport/species_kernels.hpp"
 #include "suffuse/liquid.hpp"
-#include "two_phase_kernels.hpp"
+#include "mixture/two_phase_kernels.hpp"
 
 namespace {
 

@@ -28,16 +28,24 @@ struct GradationProblem {
   std::string problem, expected, found;
 };
 
-// The first problem with the rows, if any: at least three rows, sizes
-// positive and strictly increasing, percent passing in [0, 100], never
-// decreasing, and 100 at the largest size.
+// The order a table lists its sieves in: laboratory sheets list them from
+// the largest down, plots and most codes from the smallest up. Both are
+// read; the first and last sizes tell which.
+enum class SieveOrder { smallest_first, largest_first };
+SieveOrder sieve_order(const std::vector<std::array<double, 2>>& rows_mm_percent);
+const char* describe(SieveOrder order);  // "smallest sieve first", "largest sieve first"
+
+// The first problem with the rows, in the table's own order, if any: at
+// least three rows, sizes positive and strictly monotone, percent passing in
+// [0, 100] and cumulative (never decreasing towards the larger sizes), and
+// 100 at the largest size.
 std::optional<GradationProblem> check_gradation(const std::vector<std::array<double, 2>>& rows_mm_percent);
 
 class Gradation {
  public:
-  // Rows of (size [mm], percent passing [%]); throws Error naming `source`
-  // when check_gradation finds a problem (readers check first, to name the
-  // file line or JSON pointer).
+  // Rows of (size [mm], percent passing [%]), in either order; throws Error
+  // naming `source` when check_gradation finds a problem (readers check
+  // first, to name the file line or JSON pointer).
   Gradation(const std::vector<std::array<double, 2>>& rows_mm_percent, std::string source = "gradation");
 
   // F(D): fraction passing size D [mm]; below the smallest size, the fraction
@@ -54,10 +62,13 @@ class Gradation {
   const std::vector<double>& sizes_mm() const { return sizes_; }
   const std::vector<double>& passing_points() const { return passing_; }
   const std::string& source() const { return source_; }
+  // The order the rows were given in (sizes_mm() is always smallest first).
+  SieveOrder order() const { return order_; }
 
  private:
   std::vector<double> sizes_, passing_;
   std::string source_;
+  SieveOrder order_ = SieveOrder::smallest_first;
 };
 
 // Reads a PSD file: CSV (.csv) with a header naming both units, e.g.

@@ -30,7 +30,7 @@ enum class FieldKind {
 struct FieldInfo {
   std::string name;
   FieldKind kind = FieldKind::Scalar;
-  std::string unit;  // SI
+  std::string unit;  // SI, "-" dimensionless; in 2D the point set gives "kg" as "kg/m", "m^3" as "m^2"
   std::string description;
   bool output = true;  // written by writers
 };

@@ -237,10 +237,17 @@ class Simulation {
   void write_run_info(const std::filesystem::path& file) const;
   void refuse_what_one_process_only_runs() const;  // on many processes
   void check_time_step() const;  // refuses a fixed step above the stable one, and endless runs
-  // Checkpoints (checkpoint.cpp): `frames` is how many frames each writer wrote.
-  void save_checkpoint(const std::filesystem::path& file, const std::vector<std::size_t>& frames) const;
-  // Replaces the evolving state by the checkpoint's; returns the writers' frame counts.
-  std::vector<std::size_t> load_checkpoint(const std::filesystem::path& file);
+  // Checkpoints (checkpoint.cpp): `frames` is how many frames each writer
+  // wrote; `ends_run_at`: the end time of the run whose end it stands for
+  // (written before a last step shortened to land on that end).
+  void save_checkpoint(const std::filesystem::path& file, const std::vector<std::size_t>& frames,
+                       std::optional<double> ends_run_at = std::nullopt) const;
+  struct Restored {
+    std::vector<std::size_t> frames;   // each writer's frame count
+    std::optional<double> ends_run_at;  // as saved
+  };
+  // Replaces the evolving state by the checkpoint's.
+  Restored load_checkpoint(const std::filesystem::path& file);
 
   Scene scene_;
   std::unique_ptr<detail::Domain> domain_;

@@ -61,7 +61,7 @@ vtkSmartPointer<vtkDoubleArray> make_array(const suffuse::vtk::Array& a, int dim
     array->SetNumberOfTuples(static_cast<vtkIdType>(n));
     for (std::size_t p = 0; p < n; ++p) array->SetValue(static_cast<vtkIdType>(p), v[p]);
   }
-  if (a.with_unit) array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), a.unit.c_str());
+  array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), a.unit.c_str());
   return array;
 }
 

@@ -23,8 +23,7 @@ struct Array {
   FieldKind kind = FieldKind::Scalar;
   std::size_t tuples = 0;
   const double* values = nullptr;
-  std::string unit;        // suffuse plot reads it for its labels
-  bool with_unit = false;  // written, even when empty (the points' arrays)
+  std::string unit;  // SI, "-" dimensionless: every array's UNITS_LABEL; suffuse plot reads it for its labels
 };
 
 // Material points as vertices of a .vtp (PolyData).

@@ -61,7 +61,7 @@ class VtkGrid final : public suffuse::Writer {
     }
     for (const suffuse::GridField& f : frame.grid_fields) {
       const FieldKind kind = f.components == 1 ? FieldKind::Scalar : FieldKind::Vector;
-      image.node_arrays.push_back({f.name, kind, g.node_count(), f.values.data(), {}});
+      image.node_arrays.push_back({f.name, kind, g.node_count(), f.values.data(), f.unit});
     }
     std::vector<std::vector<double>> cell_values;  // the cell arrays' values, until written
     add_cell_averages(frame, image, cell_values);
@@ -110,7 +110,7 @@ class VtkGrid final : public suffuse::Writer {
       count[cell_of_[p]] += 1;
       weight[cell_of_[p]] += volume[p];
     }
-    image.cell_arrays.push_back({"point_count", FieldKind::Scalar, cells, count.data(), {}});
+    image.cell_arrays.push_back({"point_count", FieldKind::Scalar, cells, count.data(), "-"});
     for (std::size_t i = 0; i < names.size(); ++i) {
       const suffuse::FieldId f = pts.id(names[i]);
       const suffuse::FieldInfo& info = pts.info(f);
@@ -125,7 +125,7 @@ class VtkGrid final : public suffuse::Writer {
         for (int c = 0; c < k; ++c) mean[cell_of_[p] * k + c] += volume[p] * v[p * k + c];
       for (std::size_t c = 0; c < cells; ++c)
         for (int j = 0; j < k; ++j) mean[c * k + j] = weight[c] > 0 ? mean[c * k + j] / weight[c] : 0.0;
-      image.cell_arrays.push_back({names[i], info.kind, cells, mean.data(), {}});
+      image.cell_arrays.push_back({names[i], info.kind, cells, mean.data(), info.unit});
     }
   }
 

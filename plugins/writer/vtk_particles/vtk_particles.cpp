@@ -34,7 +34,7 @@ class VtkParticles final : public suffuse::Writer {
     out.positions = pts.data(pts.core().position);
     for (suffuse::FieldId f = 0; f < pts.field_count(); ++f) {
       const suffuse::FieldInfo& info = pts.info(f);
-      if (info.output) out.arrays.push_back({info.name, info.kind, pts.size(), pts.data(f), info.unit, true});
+      if (info.output) out.arrays.push_back({info.name, info.kind, pts.size(), pts.data(f), info.unit});
     }
     suffuse::vtk::write_points(out, files_.next_path(), compress_, "writer/vtk_particles");
     files_.written(frame.series, frame.time);

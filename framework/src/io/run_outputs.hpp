@@ -1,0 +1,68 @@
+#pragma once
+// What a run writes while it steps: the writers' frames (with the one .pvd
+// collection), the mass ledger and the reactions as CSV. Every file is
+// complete after each output step, and a restarted run resumes each of them
+// after the checkpoint's time.
+#include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "io/grid_projection.hpp"
+#include "io/output_series.hpp"
+#include "suffuse/scene.hpp"
+#include "suffuse/simulation.hpp"
+#include "suffuse/writer.hpp"
+
+namespace suffuse::detail {
+
+class Reactions;
+class SpeciesTransport;
+
+class RunOutputs {
+ public:
+  RunOutputs(const Scene& scene, std::vector<std::unique_ptr<Writer>>& writers, const std::filesystem::path& dir,
+             Domain& domain, const SpeciesTransport* species, Reactions& reactions, GridProjection& grid,
+             StageTimes& times);
+
+  // A new run: creates the files and writes the initial state.
+  void start(double time, std::size_t step);
+  // A restarted run: keeps what was written up to `time` (each writer had
+  // written frames[w] frames) and appends after it.
+  void resume(double time, const std::vector<std::size_t>& frames);
+  // After a step: the frames and rows due at `now` (every one at the end).
+  void after_step(double now, std::size_t step, bool at_end);
+  void close();
+
+  // Frames each writer has written so far (saved in checkpoints).
+  const std::vector<std::size_t>& frames() const { return frames_; }
+
+ private:
+  double next_multiple(double interval, double now) const;
+  void write_frame(std::size_t w, double now, std::size_t step);
+  std::optional<MassLedger> ledger_at(double time) const;
+  void open_csv(std::ofstream& csv, const char* suffix, std::optional<double> resume_time,
+                const std::optional<MassLedger>& ledger);
+  void write_rows(double now);
+
+  const Scene& scene_;
+  std::vector<std::unique_ptr<Writer>>& writers_;
+  std::filesystem::path dir_;
+  Domain& domain_;
+  const SpeciesTransport* species_;
+  Reactions& reactions_;
+  GridProjection& grid_;
+  StageTimes& times_;
+  // On many processes the first one writes; the others take part in what a
+  // frame gathers (points, projected fields, the ledger's sums).
+  bool writes_;
+  std::unique_ptr<PvdSeries> series_;
+  std::vector<double> interval_, next_;
+  std::vector<std::size_t> frames_;
+  double row_interval_, next_row_;
+  std::ofstream ledger_, reactions_csv_;
+};
+
+}  // namespace suffuse::detail

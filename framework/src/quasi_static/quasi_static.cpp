@@ -1,0 +1,547 @@
+#include "quasi_static/quasi_static.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "parallel/executor.hpp"
+#include "quasi_static/quasi_static_linear.hpp"
+#include "mpm/solid_kernels.hpp"
+#include "suffuse/error.hpp"
+#include "suffuse/grid_face.hpp"
+#include "suffuse/liquid.hpp"
+#include "suffuse/tensor.hpp"
+
+namespace suffuse::detail {
+
+namespace {
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double min_cover = 1e-4;
+}  // namespace
+
+QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& materials, SaturatedMixture* mixture,
+                         const std::vector<std::unique_ptr<BoundaryCondition>>& bcs, ApplyLoads apply_loads)
+    : scene_(scene), d_(domain), materials_(materials), mixture_(mixture), bcs_(bcs),
+      apply_loads_(std::move(apply_loads)), linear_(std::make_unique<Linear>()) {
+  if (d_.comm.parallel())
+    linear_->distributed = make_distributed_system(d_.comm, "the quasi-static step's solve", "suffuse_qs_");
+  const std::size_t nn = d_.grid.node_count();
+  const int dim = d_.dim();
+  probe_.resize(nn, dim, mixture_ != nullptr);
+  for (auto* v : {&node_mass_, &node_pore_, &node_volume_, &p_}) v->assign(nn, 0.0);
+  du_.assign(nn * dim, 0.0);
+  f_ext_.assign(nn * dim, 0.0);
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) modulus_.push_back(materials.phase(m).p_wave_modulus());
+  std::size_t cells = 1;
+  for (int a = 0; a < dim; ++a) cells *= static_cast<std::size_t>(d_.grid.cells()[a]);
+  cell_count_.assign(cells, 0.0);
+}
+
+QuasiStatic::~QuasiStatic() = default;
+
+void QuasiStatic::save_state(std::vector<std::vector<double>>& into) const {
+  const auto& ids = materials_.stress_state_fields();
+  into.resize(ids.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const auto v = d_.points.values(ids[k]);
+    into[k].assign(v.begin(), v.end());
+  }
+}
+
+void QuasiStatic::restore_state(const std::vector<std::vector<double>>& from) {
+  const auto& ids = materials_.stress_state_fields();
+  for (std::size_t k = 0; k < ids.size(); ++k) std::copy(from[k].begin(), from[k].end(), d_.points.data(ids[k]));
+}
+
+void QuasiStatic::prepare(double time, double dt) {
+  const int dim = d_.dim();
+  const std::size_t nn = d_.grid.node_count();
+  PointSet& pts = d_.points;
+  const auto& c = pts.core();
+  const ExpandedSupports& s = d_.expanded_shape();
+  const double* m = pts.data(c.mass);
+  const double* V = pts.data(c.volume);
+  const double* x = pts.data(c.position);
+  const double* n = mixture_ ? pts.data(mixture_->fields().porosity) : nullptr;
+  const double* pressure = mixture_ ? pts.data(mixture_->fields().pressure) : nullptr;
+  const double* moving = mixture_ ? pts.data(mixture_->fields().moving_liquid_mass) : nullptr;
+
+  // Nodal masses (gravity), pore volumes and the old pressures projected.
+  for (auto* v : {&node_mass_, &node_pore_, &node_volume_, &p_}) std::fill(v->begin(), v->end(), 0.0);
+  node_cover_.assign(nn, 0.0);
+  std::fill(f_ext_.begin(), f_ext_.end(), 0.0);
+  std::fill(cell_count_.begin(), cell_count_.end(), 0.0);
+  const auto& g = scene_.gravity;
+  creep_.assign(nn * dim, 0.0);  // none until a point has no stiffness (assemble)
+  const bool inertia = scene_.quasi_static.inertia;
+  const double* v = pts.data(c.velocity);
+  if (inertia) {
+    inertia_.assign(nn * dim, 0.0);
+    inertia_target_.assign(nn * dim, 0.0);
+  }
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    const bool wet = n && n[p] > 0;
+    const double weight = m[p] + (wet ? moving[p] : 0.0);
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t k = p * s.npp + a;
+      const std::int64_t I = s.ids[k];
+      const double N = s.weights[k];
+      node_mass_[I] += N * m[p];
+      node_cover_[I] += N * V[p];
+      for (int i = 0; i < dim; ++i) f_ext_[I * dim + i] += N * weight * g[i];
+      if (inertia)  // the mixture's mass and momentum (the liquid moving with the skeleton, as in u-p)
+        for (int i = 0; i < dim; ++i) {
+          inertia_[I * dim + i] += N * weight;
+          inertia_target_[I * dim + i] += N * weight * v[p * dim + i];
+        }
+      if (!wet) continue;
+      node_pore_[I] += N * n[p] * V[p];
+      node_volume_[I] += N * V[p];
+      p_[I] += N * V[p] * pressure[p];
+    }
+    if (!wet) continue;
+    std::int64_t cell = 0, stride = 1;
+    for (int a = 0; a < dim; ++a) {
+      const int i = static_cast<int>(std::floor((x[p * dim + a] - d_.grid.origin()[a]) / d_.grid.cell_size()[a]));
+      cell += stride * std::clamp(i, 0, d_.grid.cells()[a] - 1);
+      stride *= d_.grid.cells()[a];
+    }
+    ++cell_count_[cell];
+  }
+  for (auto* sums : {&node_mass_, &node_cover_, &f_ext_, &node_pore_, &node_volume_, &p_, &cell_count_})
+    sum_over_processes(*sums);
+  // Inertia: M (du - dt v0) / dt^2 in each displacement equation, v0 the
+  // nodal velocity at the start of the step (mass-weighted).
+  if (inertia) {
+    sum_over_processes(inertia_);
+    sum_over_processes(inertia_target_);
+    for (std::size_t k = 0; k < inertia_.size(); ++k) {
+      const double M = inertia_[k];
+      inertia_target_[k] = M > 0 ? dt * inertia_target_[k] / M : 0.0;
+      inertia_[k] = M / (dt * dt);
+    }
+  }
+  for (std::size_t I = 0; I < nn; ++I)
+    if (node_volume_[I] > 0) p_[I] /= node_volume_[I];
+
+  // What the boundary conditions do: loads at the end of the step, and the
+  // components they constrain (left NaN where they do not).
+  const double t1 = time + dt;
+  for (auto* v : {&probe_.force, &probe_.liquid_force}) std::fill(v->begin(), v->end(), 0.0);
+  std::fill(probe_.velocity.begin(), probe_.velocity.end(), nan);
+  if (mixture_) {
+    std::fill(probe_.liquid_velocity.begin(), probe_.liquid_velocity.end(), nan);
+    probe_.liquid_mass = node_pore_;  // their ratio is the nodal porosity
+    probe_.liquid_inertia = node_volume_;
+  }
+  apply_loads_(probe_, t1);
+  held_.assign(bcs_.size(), {});
+  for (std::size_t b = 0; b < bcs_.size(); ++b) {
+    const bool recorded = std::any_of(scene_.reactions.begin(), scene_.reactions.end(),
+                                      [&](const ReactionSpec& r) { return r.condition == b; });
+    if (recorded) velocity_before_.assign(probe_.velocity.begin(), probe_.velocity.end());
+    bcs_[b]->constrain_velocity(d_.grid, probe_, t1);
+    if (!recorded) continue;
+    for (std::size_t k = 0; k < probe_.velocity.size(); ++k) {
+      const double before = velocity_before_[k], after = probe_.velocity[k];
+      if (!std::isnan(after) && (std::isnan(before) || before != after)) held_[b].push_back(k);
+    }
+  }
+  for (std::size_t k = 0; k < f_ext_.size(); ++k) f_ext_[k] += probe_.force[k];
+
+  // Displacement unknowns: components of nodes with mass, unless constrained.
+  equations_ = 0;
+  tail_nodes_.clear();
+  tail_mark_.assign(nn, 0);
+  double cell_volume = 1;
+  for (int a = 0; a < dim; ++a) cell_volume *= d_.grid.cell_size()[a];
+  u_dof_.assign(nn * dim, -1);
+  const bool root = d_.comm.root();  // where the terms every process knows are added (once)
+  for (std::size_t I = 0; I < nn; ++I)
+    for (int i = 0; i < dim; ++i) {
+      const std::size_t k = I * dim + i;
+      du_[k] = 0;
+      if (node_mass_[I] <= 0) continue;
+      if (std::isnan(probe_.velocity[k]) && node_cover_[I] < min_cover * cell_volume) {
+        if (!tail_mark_[I]) tail_nodes_.push_back(static_cast<std::int64_t>(I));
+        tail_mark_[I] = 1;
+        continue;
+      }
+      if (std::isnan(probe_.velocity[k]))
+        u_dof_[k] = static_cast<std::int64_t>(equations_++);
+      else
+        du_[k] = probe_.velocity[k] * dt;
+    }
+
+  tail_points_.clear();
+  if (!tail_nodes_.empty()) {
+    tail_sum_.assign(nn * dim, 0.0);
+    tail_weight_.assign(nn, 0.0);
+    for (std::size_t p = 0; p < pts.size(); ++p)
+      for (int a = 0; a < s.npp; ++a)
+        if (tail_mark_[static_cast<std::size_t>(s.ids[p * s.npp + a])]) {
+          tail_points_.push_back(p);
+          break;
+        }
+  }
+  follow_tail_nodes();  // the constrained increments
+
+  // Pressure unknowns: nodes with pore volume, unless a face open to the
+  // liquid or a free surface fixes their pressure.
+  displacement_equations_ = equations_;
+  p_dof_.assign(nn, -1);
+  b_p_.assign(nn, 0.0);
+  if (!mixture_) return;
+  std::vector<char>& fixed = fixed_pressure_;
+  fixed.assign(nn, 0);
+  face_flux_.clear();
+  for (const auto& bc : bcs_)
+    for (const LiquidOpening& opening : bc->liquid_openings()) {
+      const GridFace f = opening.face;
+      for (const std::int64_t I : face_nodes(d_.grid, f)) {
+        if (node_pore_[I] <= 0) continue;
+        const std::size_t k = static_cast<std::size_t>(I) * dim + f.axis;
+        const double area = face_node_area(d_.grid, f, I);
+        if (!std::isnan(probe_.liquid_velocity[k]) && !std::isnan(probe_.velocity[k])) {
+          // A prescribed flux: n (v_L - v_s) enters against the outward normal.
+          const double nI = node_pore_[I] / node_volume_[I];
+          if (root) b_p_[I] -= dt * f.outward() * nI * (probe_.liquid_velocity[k] - probe_.velocity[k]) * area;
+        } else if (!fixed[I]) {
+          fixed[I] = 1;  // the pressure whose traction -p n the condition applied
+          p_[I] = -probe_.liquid_force[k] * f.outward() / area;
+          face_flux_.push_back({I, f.axis, f.outward(), area});
+        } else {  // a corner two open faces share: its residual is their sum
+          std::erase_if(face_flux_, [&](const FaceFlux& ff) { return ff.node == I; });
+        }
+      }
+    }
+  find_free_surfaces();  // drained where the surface is (quasi_static_free_surface.cpp)
+  for (std::size_t I = 0; I < nn; ++I)
+    if (node_pore_[I] > 0 && !fixed[I]) p_dof_[I] = static_cast<std::int64_t>(equations_++);
+  follow_inner_nodes();
+
+  // The rest of the pressure equations' right-hand side: the storage of the
+  // old pressures and the flow gravity drives, -dt sum V k rho_L g . grad N.
+  const auto& mf = mixture_->fields();
+  const double* KL = pts.data(mf.bulk_modulus);
+  const double* K = pts.data(mf.conductivity);
+  const double* rho_w = pts.data(mf.water_density);
+  const double* rho_l = pts.data(mf.liquid_density);
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    if (!(n[p] > 0)) continue;
+    const double storage = V[p] * n[p] / KL[p] * pressure[p];
+    const double k = K[p] / (rho_w[p] * reference_gravity);
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t q = p * s.npp + a;
+      const std::int64_t I = s.ids[q];
+      double g_dot = 0;
+      for (int i = 0; i < dim; ++i) g_dot += g[i] * s.gradients[q * dim + i];
+      b_p_[I] += s.weights[q] * storage + dt * V[p] * k * rho_l[p] * g_dot;
+    }
+  }
+  sum_over_processes(b_p_);
+}
+
+void QuasiStatic::follow_tail_nodes() {
+  if (tail_nodes_.empty()) return;
+  const int dim = d_.dim();
+  const ExpandedSupports& s = d_.expanded_shape();
+  const double* m = d_.points.data(d_.points.core().mass);
+  for (const std::int64_t I : tail_nodes_) {
+    tail_weight_[I] = 0;
+    for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] = 0;
+  }
+  for (const std::size_t p : tail_points_) {
+    double du[3] = {0, 0, 0}, w = 0;
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t q = p * s.npp + a;
+      const std::int64_t I = s.ids[q];
+      if (tail_mark_[I]) continue;
+      w += s.weights[q];
+      for (int i = 0; i < dim; ++i) du[i] += s.weights[q] * du_[I * dim + i];
+    }
+    if (w <= 0) continue;  // a point only tail nodes reach: it stays
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t q = p * s.npp + a;
+      const std::int64_t I = s.ids[q];
+      if (!tail_mark_[I]) continue;
+      const double c = s.weights[q] * m[p];
+      tail_weight_[I] += c;
+      for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] += c * du[i] / w;
+    }
+  }
+  if (d_.comm.parallel()) {  // the tail nodes' sums only
+    std::vector<double> sums;
+    for (const std::int64_t I : tail_nodes_) {
+      sums.push_back(tail_weight_[I]);
+      for (int i = 0; i < dim; ++i) sums.push_back(tail_sum_[I * dim + i]);
+    }
+    sum_over_processes(sums);
+    std::size_t at = 0;
+    for (const std::int64_t I : tail_nodes_) {
+      tail_weight_[I] = sums[at++];
+      for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] = sums[at++];
+    }
+  }
+  for (const std::int64_t I : tail_nodes_)
+    for (int i = 0; i < dim; ++i) {
+      const std::size_t k = static_cast<std::size_t>(I) * dim + i;
+      if (tail_weight_[I] > 0 && std::isnan(probe_.velocity[k])) du_[k] = tail_sum_[k] / tail_weight_[I];
+    }
+}
+
+// The stresses of the current increments (each phase's own update from the
+// state at the start of the step) and the out-of-balance forces and
+// volumes; returns the norm of the forces at the free components.
+double QuasiStatic::evaluate(double dt) {
+  const int dim = d_.dim();
+  const std::size_t nn = d_.grid.node_count();
+  for (std::size_t k = 0; k < du_.size(); ++k) d_.nodes.velocity[k] = du_[k] / dt;
+  d_.update_velocity_gradient(dt);
+  materials_.update_stress_with_imposed_eigenstrain(d_, dt);
+
+  PointSet& pts = d_.points;
+  const auto& c = pts.core();
+  const ExpandedSupports& s = d_.expanded_shape();
+  const double* V = pts.data(c.volume);
+  const double* sigma = pts.data(c.stress);
+  const double* n = mixture_ ? pts.data(mixture_->fields().porosity) : nullptr;
+  const double* KL = mixture_ ? pts.data(mixture_->fields().bulk_modulus) : nullptr;
+  const double* K = mixture_ ? pts.data(mixture_->fields().conductivity) : nullptr;
+  const double* rho_w = mixture_ ? pts.data(mixture_->fields().water_density) : nullptr;
+  std::vector<double>& f_int = f_int_;
+  f_int.assign(nn * dim, 0.0);
+  std::vector<double>& r_p = r_p_;
+  r_p = b_p_;  // every process's sum: the others add their points' terms only
+  if (!d_.comm.root()) std::fill(r_p.begin(), r_p.end(), 0.0);
+  point_pressure_.assign(pts.size(), 0.0);
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    const bool wet = n && n[p] > 0;
+    double pp = 0, grad_p[3] = {0, 0, 0}, div_u = 0;
+    if (wet)
+      for (int a = 0; a < s.npp; ++a) {
+        const std::size_t q = p * s.npp + a;
+        const std::int64_t I = s.ids[q];
+        pp += s.weights[q] * p_[I];
+        for (int i = 0; i < dim; ++i) {
+          grad_p[i] += s.gradients[q * dim + i] * p_[I];
+          div_u += s.gradients[q * dim + i] * du_[I * dim + i];
+        }
+      }
+    point_pressure_[p] = pp;
+    const double* sp = sigma + p * 6;
+    for (int a = 0; a < s.npp; ++a) {
+      const std::size_t q = p * s.npp + a;
+      const std::int64_t I = s.ids[q];
+      const double* gN = &s.gradients[q * dim];
+      for (int i = 0; i < dim; ++i) {
+        double f = -V[p] * pp * gN[i];  // total stress sigma' - p I
+        for (int j = 0; j < dim; ++j) f += V[p] * sp[tensor::voigt_index(i, j)] * gN[j];
+        f_int[I * dim + i] += f;
+      }
+      if (!wet) continue;
+      const double k = K[p] / (rho_w[p] * reference_gravity);
+      double flow = 0;
+      for (int i = 0; i < dim; ++i) flow += gN[i] * grad_p[i];
+      r_p[I] -= s.weights[q] * V[p] * (n[p] / KL[p] * pp + div_u) + dt * V[p] * k * flow;
+    }
+  }
+  sum_over_processes(f_int);
+  if (mixture_) sum_over_processes(r_p);
+  double r2 = 0, f2 = 0, i2 = 0, a2 = 0;
+  for (std::size_t I = 0; I < nn; ++I)
+    for (int i = 0; i < dim; ++i) {
+      const std::size_t k = I * dim + i;
+      if (node_mass_[I] <= 0) continue;
+      f2 += f_ext_[k] * f_ext_[k];
+      i2 += f_int[k] * f_int[k];
+      if (u_dof_[k] < 0) continue;
+      double r = f_ext_[k] - f_int[k] - creep_[k] * du_[k];
+      if (!inertia_.empty()) {
+        const double inertial = inertia_[k] * (du_[k] - inertia_target_[k]);
+        r -= inertial;
+        a2 += inertial * inertial;  // a body in flight: its inertia is the force acting
+      }
+      residual_[static_cast<std::size_t>(u_dof_[k])] = r;
+      r2 += r * r;
+    }
+  for (std::size_t I = 0; I < nn; ++I)
+    if (p_dof_[I] >= 0 && !surface_node_[I]) residual_[static_cast<std::size_t>(p_dof_[I])] = -r_p[I];
+  for (const Extrapolated& e : extrapolated_)
+    residual_[static_cast<std::size_t>(p_dof_[e.node])] -= e.factor * r_p[e.node];
+  force_scale_ = std::sqrt(std::max({f2, i2, a2}));
+  return std::sqrt(r2);
+}
+
+// Newton iterations on the true stresses, the matrix from the phases'
+// tangents at each iterate (a cohesionless point that separates has none).
+std::optional<int> QuasiStatic::solve(double time, double dt) {
+  failure_.clear();
+  prepare(time, dt);
+  prepare_blocks();
+  residual_.assign(equations_, 0.0);
+  // The step's eigenstrain, once: every iteration starts from the state
+  // with it imposed (a phase's eigenstrain is a function of the state at
+  // the step's start, not of the iterate).
+  if (materials_.writes_eigenstrain()) {
+    save_state(step_start_);
+    materials_.impose_eigenstrain(d_, dt);
+  }
+  save_state(saved_);
+  int iterations = 0;
+  if (newton(dt, iterations)) return iterations;
+  if (materials_.writes_eigenstrain()) restore_state(step_start_);
+  return std::nullopt;
+}
+
+bool QuasiStatic::newton(double dt, int& iterations) {
+  const QuasiStaticControls& control = scene_.quasi_static;
+  Linear& L = *linear_;
+  Eigen::VectorXd rhs(static_cast<Eigen::Index>(equations_));
+  // The size of the residual a line search compares: scaled as the system,
+  // so that forces and liquid volumes count alike.
+  auto merit = [&] {
+    double sum = 0;
+    for (std::size_t e = 0; e < equations_; ++e) sum += std::pow(L.scale_of(e) * residual_[e], 2);
+    return std::sqrt(sum);
+  };
+  std::vector<double>& du0 = du_previous_;
+  std::vector<double>& p0 = p_previous_;
+  // Whether a correction changes no displacement and no pressure by more
+  // than round-off of the largest.
+  auto round_off = [&](const Eigen::VectorXd& delta) {
+    double u = 0, p = 0, du = 0, dp = 0;
+    for (std::size_t k = 0; k < u_dof_.size(); ++k) {
+      u = std::max(u, std::abs(du_[k]));
+      if (u_dof_[k] >= 0) du = std::max(du, std::abs(delta[u_dof_[k]]));
+    }
+    for (std::size_t I = 0; I < p_dof_.size(); ++I) {
+      p = std::max(p, std::abs(p_[I]));
+      if (p_dof_[I] >= 0) dp = std::max(dp, std::abs(delta[p_dof_[I]]));
+    }
+    return u > 0 && du <= 1e-12 * u && dp <= 1e-12 * p;
+  };
+  bool last_step_is_round_off = false;
+  restore_state(saved_);
+  double norm = evaluate(dt);
+  for (int iteration = 0;; ++iteration) {
+    if (!std::isfinite(norm)) break;
+    // The first evaluation has the old pressures: at least one solve.
+    if (iteration > 0 && norm <= control.newton_tolerance * force_scale_) return true;
+    // Or the last full Newton step changed the increments by round-off: a
+    // body moved only by its constraints (a translation) has no forces to
+    // compare the residual with.
+    if (iteration > 1 && last_step_is_round_off) return true;
+    if (iteration == control.max_iterations) break;
+    ++iterations;
+    materials_.tangent(d_, dt, tangent_);
+    assemble(dt);
+    for (std::size_t e = 0; e < equations_; ++e) rhs[static_cast<Eigen::Index>(e)] = residual_[e];
+    // After the attempt's first iteration the factors of an earlier one
+    // precondition GMRES (quasi_static_linear.hpp); factorised if it does
+    // not converge with them.
+    std::optional<Eigen::VectorXd> reused;
+    if (iteration > 0 && (L.has_factors || L.distributed) && control.reuse_factors) {
+      int its = 0;
+      reused = L.solve_reusing_factors(rhs, its);
+      gmres_iterations_ += static_cast<std::size_t>(its);
+    }
+    if (!reused && !L.distributed) factorise_or_throw();
+    if (!reused && L.distributed && equations_ > 0) ++factorisations_;  // PETSc sets its preconditioner up anew
+    const Eigen::VectorXd delta = reused ? std::move(*reused) : L.solve(rhs);
+    // Backtracking: far from equilibrium a full Newton step on a perfectly
+    // plastic skeleton can overshoot onto the wrong side of many returns;
+    // halve it until the residual falls (Armijo), at most six times.
+    const double before = merit();
+    du0 = du_, p0 = p_;
+    double alpha = 1;
+    for (int halving = 0;; ++halving) {
+      for (std::size_t k = 0; k < u_dof_.size(); ++k)
+        if (u_dof_[k] >= 0) du_[k] = du0[k] + alpha * delta[u_dof_[k]];
+      for (std::size_t I = 0; I < p_dof_.size(); ++I)
+        if (p_dof_[I] >= 0) p_[I] = p0[I] + alpha * p_weight_[I] * delta[p_dof_[I]];
+      follow_tail_nodes();
+      restore_state(saved_);
+      norm = evaluate(dt);
+      if (halving == 6 || (std::isfinite(norm) && merit() <= (1 - 1e-4 * alpha) * before)) break;
+      alpha /= 2;
+    }
+    last_step_is_round_off = alpha == 1 && round_off(delta);
+  }
+  describe_failure();
+  restore_state(saved_);
+  return false;
+}
+
+QuasiStatic::Held QuasiStatic::held_by(std::size_t b) const {
+  const auto dim = static_cast<std::size_t>(d_.dim());
+  Held held;
+  std::array<double, 3> mass{}, moved{};
+  for (const std::size_t k : held_[b]) {
+    const std::size_t I = k / dim, i = k % dim;
+    if (node_mass_[I] <= 0) continue;
+    held.force[i] += f_int_[k] - f_ext_[k];
+    // With inertia the constraint also accelerates its nodes' mass.
+    if (!inertia_.empty()) held.force[i] += inertia_[k] * (du_[k] - inertia_target_[k]);
+    mass[i] += node_mass_[I];
+    moved[i] += node_mass_[I] * du_[k];
+  }
+  for (std::size_t i = 0; i < dim; ++i) {
+    const double m = mass[i];  // every process holds every node's (sum_over_processes)
+    if (m > 0) held.displacement[i] = moved[i] / m;
+  }
+  return held;
+}
+
+void QuasiStatic::describe_failure() {
+  const int dim = d_.dim();
+  std::size_t worst = 0;
+  double largest = -1;
+  for (std::size_t k = 0; k < u_dof_.size(); ++k)
+    if (u_dof_[k] >= 0 && std::abs(residual_[static_cast<std::size_t>(u_dof_[k])]) > largest)
+      largest = std::abs(residual_[static_cast<std::size_t>(u_dof_[k])]), worst = k;
+  std::ostringstream out;
+  out.precision(3);
+  auto position = [&](const double* x) {
+    out << "(";
+    for (int a = 0; a < dim; ++a) out << (a ? ", " : "") << x[a];
+    out << ") m";
+  };
+  if (largest >= 0 && std::isfinite(largest)) {
+    const auto node = d_.grid.node_position(static_cast<std::int64_t>(worst / static_cast<std::size_t>(dim)));
+    out << "the largest out-of-balance force, " << largest << (dim == 2 ? " N/m" : " N") << " ("
+        << largest / force_scale_ << " of the forces; /time/newton_tolerance " << scene_.quasi_static.newton_tolerance
+        << "), is at the node ";
+    position(node.data());
+  }
+  // Points whose tangent is zero: at the apex of a yield surface, or separated.
+  const double* x = d_.points.data(d_.points.core().position);
+  std::vector<double> stiffless_count{0.0};
+  std::array<double, 3> lo{}, hi{};
+  lo.fill(std::numeric_limits<double>::infinity());
+  hi.fill(-std::numeric_limits<double>::infinity());
+  for (std::size_t p = 0; p < d_.points.size() && tangent_.size() >= (p + 1) * 36; ++p) {
+    if (!without_stiffness(&tangent_[p * 36])) continue;
+    for (int a = 0; a < dim; ++a) {
+      lo[a] = std::min(lo[a], x[p * dim + a]);
+      hi[a] = std::max(hi[a], x[p * dim + a]);
+    }
+    stiffless_count[0] += 1;
+  }
+  sum_over_processes(stiffless_count);
+  for (int a = 0; a < dim; ++a) lo[a] = d_.comm.min(lo[a]), hi[a] = d_.comm.max(hi[a]);
+  const auto stiffless = static_cast<std::size_t>(stiffless_count[0]);
+  if (stiffless > 0) {
+    out << "; " << stiffless << " material point" << (stiffless > 1 ? "s" : "")
+        << " had no stiffness at the last iteration (a stress at the apex of the yield surface, or separated), between ";
+    position(lo.data());
+    out << " and ";
+    position(hi.data());
+  }
+  failure_ = out.str();
+}
+
+}  // namespace suffuse::detail

@@ -1,0 +1,163 @@
+// Simulation::run: the time loop around step(), with outputs and timing.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "mpm/domain.hpp"
+#include "mpm/point_order.hpp"
+#include "quasi_static/quasi_static.hpp"
+#include "mpm/reactions.hpp"
+#include "io/run_outputs.hpp"
+#include "mixture/saturated_mixture.hpp"
+#include "transport/species_transport.hpp"
+#include "common/stage_timer.hpp"
+#include "suffuse/error.hpp"
+#include "suffuse/simulation.hpp"
+#include "suffuse/version.hpp"
+
+namespace suffuse {
+
+// The numerical choices of the run, next to its outputs, so that a reduced
+// liquid bulk modulus or a chosen time step is never silent.
+void Simulation::write_run_info(const std::filesystem::path& file) const {
+  nlohmann::ordered_json info;
+  info["suffuse_version"] = framework_version;
+  info["scene"] = scene_.file.string();
+  info["dimension"] = scene_.dim;
+  info["points"] = point_count();
+  info["processes"] = processes();
+  info["time_step"] = clock_.nominal_dt();
+  info["time_step_mode"] = scene_.dt ? "fixed" : "automatic";
+  info["cfl"] = scene_.cfl;
+  info["mass_scaling"] = scene_.mass_scaling;
+  info["end_time"] = scene_.end_time;
+  info["damping"] = scene_.damping;
+  info["threads"] = threads();
+  info["kernels"] = kernels();
+  info["saturated"] = saturated();
+  for (std::size_t l = 0; mixture_ && l < scene_.liquids.size(); ++l) {
+    const Liquid& liquid = mixture_->liquid(l);
+    info["liquids"][scene_.liquids[l].name] = {
+        {"density", liquid.density()}, {"bulk_modulus", liquid.bulk_modulus()}, {"viscosity", liquid.viscosity()}};
+  }
+  std::ofstream out(file);
+  out << info.dump(2) << "\n";
+  if (!out) throw Error("cannot write " + file.string());
+}
+
+RunSummary Simulation::run(const RunOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const double end = scene_.end_time;
+  const std::filesystem::path& dir = options.output_dir;
+
+  detail::RunOutputs outputs(scene_, writers_, dir, *domain_, species_.get(), *reactions_, *grid_projection_, times_);
+  if (!options.restart.empty()) {
+    const Restored restored = load_checkpoint(options.restart);
+    // A finished run's checkpoint stands for its end, even when it holds the
+    // state before its last, shortened step (below).
+    const double at = std::max(clock_.time(), restored.ends_run_at.value_or(clock_.time()));
+    if (at >= end)
+      throw Error("cannot restart from " + options.restart.string() + ": it is at t = " + std::to_string(at) +
+                  " s, the scene ends at " + std::to_string(end) + " s; raise /time/end to extend the run");
+    outputs.resume(clock_.time(), restored.frames);
+  } else {
+    outputs.start(clock_.time(), clock_.steps());
+  }
+  if (!dir.empty() && (!writers_.empty() || species_ || !reactions_->empty()) && domain_->comm.root())
+    write_run_info(dir / (scene_.name + ".run.json"));
+
+  // Checkpoints: at multiples of the interval and at the end, replacing one
+  // file (the run's state is a few times its points' fields). The end's is
+  // the state before the last step where that step is shortened to land on
+  // the end time: a run extended from it then takes the steps a run given
+  // the later end from the start takes, bit for bit (a checkpoint after the
+  // shortened step would continue off that run's steps). It is written
+  // beside, and takes the checkpoint's name once the step has reached the
+  // end (a quasi-static step may be halved instead).
+  const std::optional<double> checkpoint_interval =
+      options.checkpoint_interval ? options.checkpoint_interval : scene_.checkpoint_interval;
+  const std::filesystem::path checkpoint = dir / (scene_.name + ".checkpoint");
+  auto next_checkpoint = [&](double now) {
+    return checkpoint_interval ? (std::floor((now + 1e-9 * *checkpoint_interval) / *checkpoint_interval) + 1) *
+                                     *checkpoint_interval
+                               : std::numeric_limits<double>::infinity();
+  };
+  double checkpoint_due = next_checkpoint(clock_.time());
+  const std::filesystem::path end_checkpoint = checkpoint.string() + ".end";
+  struct RemoveUnused {  // a last step that fails leaves no end checkpoint behind
+    const std::filesystem::path& file;
+    bool writer;  // the process that writes checkpoints
+    ~RemoveUnused() {
+      std::error_code ignored;
+      if (writer) std::filesystem::remove(file, ignored);
+    }
+  } remove_unused{end_checkpoint, domain_->comm.root()};
+
+  const std::size_t first_step = clock_.steps();
+  const std::size_t exchanged_before = domain_->exec.exchanged_values();
+  clock_.run_until(end);
+  while (!clock_.reached_end()) {
+    const double dt = clock_.dt();
+    const bool end_saved_before = !dir.empty() && scene_.checkpoint_at_end && dt < clock_.nominal_dt();
+    if (end_saved_before) {
+      detail::StageTimer timer(times_, Stage::output);
+      save_checkpoint(end_checkpoint, outputs.frames(), end);
+    }
+    step();
+    const double now = clock_.time();
+    const bool at_end = clock_.reached_end();
+    if (end_saved_before && at_end && domain_->comm.root()) std::filesystem::rename(end_checkpoint, checkpoint);
+    // Every process stops at the same step (a signal may reach them apart).
+    const bool stopping = !at_end && domain_->comm.any(options.stop && options.stop->load());
+    // An interrupted run ends like a finished one: a frame of every output and a checkpoint.
+    outputs.after_step(now, clock_.steps(), at_end || stopping);
+    if (!dir.empty() && !(end_saved_before && at_end) &&
+        (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() || (at_end && scene_.checkpoint_at_end) || stopping)) {
+      detail::StageTimer timer(times_, Stage::output);
+      save_checkpoint(checkpoint, outputs.frames());
+      checkpoint_due = next_checkpoint(now);
+    }
+    if (options.on_step) {
+      options.on_step(Progress{clock_.steps(), now, end, dt, point_count(),
+                               std::chrono::duration<double>(Clock::now() - start).count()});
+    }
+    if (stopping) break;
+  }
+  const bool interrupted = !clock_.reached_end();
+  clock_.run_until(std::numeric_limits<double>::infinity());
+  outputs.close();
+
+  RunSummary summary;
+  summary.steps = clock_.steps() - first_step;
+  summary.points = point_count();
+  summary.simulated_time = clock_.time();
+  summary.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const double stepping = summary.wall_seconds - times_[Stage::output];
+  summary.point_updates_per_second =
+      stepping > 0 ? static_cast<double>(summary.steps) * static_cast<double>(summary.points) / stepping : 0.0;
+  summary.stages = times_;
+  summary.transport_substeps = transport_substeps_;
+  summary.steady_transport_steps = steady_transport_steps_;
+  summary.newton_iterations = newton_iterations_;
+  summary.halved_steps = halved_steps_;
+  summary.creep_held_first = creep_held_first_;
+  summary.creep_held_from = creep_held_from_;
+  summary.creep_held_most = creep_held_most_;
+  summary.creep_held_most_at = creep_held_most_at_;
+  summary.point_sorts = point_order_->sorts();
+  if (quasi_static_) {
+    summary.factorisations = quasi_static_->factorisations();
+    summary.gmres_iterations = quasi_static_->gmres_iterations();
+  }
+  if (species_) summary.ledger = mass_ledger();
+  summary.interrupted = interrupted;
+  summary.exchanged_values = domain_->exec.exchanged_values() - exchanged_before;
+  return summary;
+}
+
+}  // namespace suffuse

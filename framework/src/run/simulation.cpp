@@ -1,0 +1,479 @@
+#include "suffuse/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "parallel/distributed_system.hpp"
+#include "mpm/domain.hpp"
+#include "mpm/dry_momentum.hpp"
+#include "mpm/geostatic_stress.hpp"
+#include "io/grid_projection.hpp"
+#include "run/memory_estimate.hpp"
+#include "mpm/point_order.hpp"
+#include "scene/scene_reader.hpp"
+#include "run/named_condition.hpp"
+#include "run/step_guard.hpp"
+#include "mpm/materials.hpp"
+#include "quasi_static/quasi_static.hpp"
+#include "mpm/reactions.hpp"
+#include "mixture/saturated_mixture.hpp"
+#include "transport/species_transport.hpp"
+#include "common/stage_timer.hpp"
+#include "suffuse/error.hpp"
+#include "suffuse/liquid.hpp"
+
+namespace suffuse {
+
+const char* stage_name(Stage stage) {
+  static const char* names[stage_count] = {"shape",     "p2g",   "grid",   "g2p",          "remap",
+                                           "strain",    "pore_pressure",   "erosion", "permeability",
+                                           "stress",    "transport",       "check",   "output", "solve"};
+  return names[static_cast<std::size_t>(stage)];
+}
+
+void SimulationClock::run_until(double end) {
+  // Times are counted from an origin while they stay on its multiples (so a
+  // restarted run steps exactly as the run it continues); after a shortened
+  // step they are counted from the time reached.
+  if (time_ != origin_ + static_cast<double>(since_origin_) * nominal_) {
+    origin_ = time_;
+    since_origin_ = 0;
+  }
+  end_ = end;
+  dt_ = std::min(nominal_, end_ - time_);
+}
+
+void SimulationClock::restore(const State& s) {
+  nominal_ = s.nominal;
+  time_ = s.time;
+  origin_ = s.origin;
+  steps_ = s.steps;
+  since_origin_ = s.since_origin;
+  dt_ = std::min(nominal_, end_ - time_);
+}
+
+void SimulationClock::set_step(double dt) {
+  nominal_ = dt;
+  origin_ = time_;
+  since_origin_ = 0;
+  dt_ = std::min(nominal_, end_ - time_);
+}
+
+void SimulationClock::advance() {
+  ++steps_;
+  ++since_origin_;
+  time_ = std::min(end_, origin_ + static_cast<double>(since_origin_) * nominal_);
+  if (time_ >= end_ - eps()) time_ = end_;
+  dt_ = std::min(nominal_, end_ - time_);
+}
+
+Simulation::Simulation(const Scene& scene, const Registry& registry, int threads)
+    : scene_((detail::check_memory(scene), scene)),  // before anything is allocated
+      domain_(std::make_unique<detail::Domain>(scene, registry, threads)),
+      materials_(std::make_unique<detail::Materials>(scene, registry)),
+      reactions_(std::make_unique<detail::Reactions>(scene.reactions, scene.dim, scene.damping)) {
+  const int dim = scene.dim;
+  for (const PluginNode& bc : scene.boundary_conditions) {
+    bcs_.push_back(std::make_unique<detail::NamedCondition>(
+        registry.create<BoundaryCondition>(bc.type, {bc.params, dim, bc.pointer}), bc));
+    bcs_.back()->setup(domain_->grid);
+  }
+  refuse_what_one_process_only_runs();
+  // Every part registers its point fields before the phases look theirs up.
+  if (scene.saturated()) {
+    mixture_ = std::make_unique<detail::SaturatedMixture>(scene, registry, *domain_, materials_->phases());
+    species_ = std::make_unique<detail::SpeciesTransport>(scene, registry, *domain_, *mixture_, bcs_);
+    momentum_ = mixture_.get();
+  } else {
+    dry_ = std::make_unique<detail::DryMomentum>(*domain_, scene.gravity, scene.damping, scene.mass_scaling);
+    momentum_ = dry_.get();
+  }
+  materials_->add_fields(domain_->points);
+  point_order_ = std::make_unique<detail::PointOrder>(scene.sort_points_at_spread);
+  for (const OutputSpec& out : scene.outputs)
+    writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
+  std::optional<detail::StepGuard::MixtureIds> mixture_ids;
+  if (mixture_) mixture_ids = {mixture_->fields().porosity, mixture_->fields().pressure, mixture_->fields().darcy_flux};
+  guard_ = std::make_unique<detail::StepGuard>(scene_, mixture_ids);
+  grid_projection_ = std::make_unique<detail::GridProjection>(
+      mixture_ ? &mixture_->fields() : nullptr, mixture_ ? &mixture_->nodal_darcy_flux() : nullptr);
+  create_bodies();
+  point_order_->number_points(domain_->points);
+  // Every point still on every process: conditions that load points keep
+  // the serial run's point numbers.
+  for (const auto& bc : bcs_) bc->setup_points(domain_->grid, domain_->points);
+  // The points whose fields the loads read on many processes (apply_loads).
+  for (const auto& bc : bcs_) {
+    if (!bc->loads_points()) continue;
+    const std::vector<std::size_t> loaded = bc->loaded_points();
+    load_every_point_ = load_every_point_ || loaded.empty();
+    loaded_points_.insert(loaded_points_.end(), loaded.begin(), loaded.end());
+  }
+  std::sort(loaded_points_.begin(), loaded_points_.end());
+  loaded_points_.erase(std::unique(loaded_points_.begin(), loaded_points_.end()), loaded_points_.end());
+  if (!loaded_points_.empty() && loaded_points_.back() >= domain_->points.size())
+    throw Error("a boundary condition names point " + std::to_string(loaded_points_.back()) + " among those it loads, of " +
+                std::to_string(domain_->points.size()));
+  // Sorting the points renumbers them: a condition that loads points and
+  // does not follow is refused now, before anything is written.
+  for (std::size_t b = 0; b < bcs_.size(); ++b) {
+    loaded_ids_.push_back(bcs_[b]->loads_points() ? bcs_[b]->loaded_points() : std::vector<std::size_t>{});
+    if (scene.sort_points_at_spread > 0 && bcs_[b]->loads_points() && !bcs_[b]->follows_renumbering())
+      throw Error(scene.boundary_conditions[b].pointer + " (" + scene.boundary_conditions[b].type +
+                  "): it loads material points and does not follow when they are sorted again into the grid's "
+                  "order (BoundaryCondition::follows_renumbering); set /sort_points_at_spread to 0");
+  }
+  domain_->distribute_points();  // on many processes: each keeps its share
+  // On many processes, the node layers beyond its points' that each process
+  // updates: what the transport's stencils read within a step (twice as far
+  // in the quasi-static substeps: Heun's second stage reads the first's
+  // results), and one layer for the outputs' projection (the points moved
+  // since the step's shape functions, by less than a cell).
+  const bool quasi_static = scene.integration == TimeIntegration::quasi_static;
+  const int transport_layers = (quasi_static ? 2 : 1) * detail::SpeciesTransport::halo_layers;
+  domain_->set_halo_layers(std::max(1, species_ ? transport_layers : 0));
+  if (species_) species_->start_ledger();
+  if (quasi_static) {
+    quasi_static_ = std::make_unique<detail::QuasiStatic>(scene_, *domain_, *materials_, mixture_.get(), bcs_,
+                                                         [this](NodeState& n, double t) { apply_loads(n, t); });
+    clock_ = SimulationClock(*scene.dt);  // validation requires it
+    return;
+  }
+  clock_ = SimulationClock(scene.dt ? *scene.dt : critical_time_step());
+  check_time_step();
+}
+
+// Scenes that validate but cannot run: a fixed step above the stable one
+// blows up within a few steps; a step so small that the run would not end
+// in a lifetime (a modulus of 1e300, dt = 1e-12) is refused with its count.
+void Simulation::check_time_step() const {
+  const double stable = critical_time_step() / scene_.cfl;
+  if (scene_.dt && *scene_.dt > stable * (1 + 1e-12) && !scene_.dt_above_stable)
+    throw Error("/time/dt = " + detail::format(*scene_.dt) + " s is above this scene's stable time step, " +
+                detail::format(stable) + " s (cell size over the fastest wave speed" +
+                (saturated() ? ", and the drag limit of saturated bodies" : "") +
+                "): the run would blow up; remove /time/dt for the automatic step (or, if nothing moves, set "
+                "/time/dt_above_stable)");
+  const double steps = scene_.end_time / clock_.nominal_dt();
+  if (steps > max_steps)
+    throw Error("the run would take " + detail::format(steps) + " steps of " + detail::format(clock_.nominal_dt()) +
+                " s to reach /time/end = " + detail::format(scene_.end_time) + " s (at most " +
+                detail::format(max_steps) +
+                "): check the moduli and /time/dt, or use /time/mass_scaling for a quasi-static run");
+}
+
+Simulation::~Simulation() = default;
+
+// Runs on many processes cover the explicit scheme and the conditions on
+// the grid (docs/parallel.md); the rest is refused before any point is made.
+void Simulation::refuse_what_one_process_only_runs() const {
+  const detail::Communicator& comm = domain_->comm;
+  if (!comm.parallel()) return;
+  const std::string processes = " on " + std::to_string(comm.size()) + " processes: ";
+  if (scene_.integration == TimeIntegration::quasi_static && !detail::built_with_petsc())
+    throw Error("/time/integration \"quasi_static\" runs on many processes through PETSc, which this build lacks, "
+                "not" + processes + "install libpetsc-real-dev and rebuild, or run it without mpirun (docs/parallel.md)");
+}
+
+std::size_t Simulation::point_count() const { return domain_->total_points(); }
+int Simulation::processes() const { return domain_->comm.size(); }
+int Simulation::process_rank() const { return domain_->comm.rank(); }
+
+void Simulation::create_bodies() {
+  const std::vector<double> weights = unit_weights();
+  const double g = -scene_.gravity[scene_.dim - 1];  // along the vertical (last) axis, downward
+  for (std::size_t i = 0; i < scene_.bodies.size(); ++i) {
+    const BodySpec& body = scene_.bodies[i];
+    const Phase& phase = materials_->phase(body.material);
+    const detail::BodyPoints b = domain_->create_body(body, phase.density());
+    if (mixture_) mixture_->initialise(body, b);
+    if (species_) species_->initialise(body, b);
+    const double rho_w = body.liquid ? mixture_->liquid(*body.liquid).density() : 0.0;
+    detail::add_geostatic_stress(scene_, weights, i, rho_w, g, domain_->points, b.range);
+    phase.initialise(domain_->points, b.range);
+  }
+}
+
+// Each body's total unit weight: its grains, and the liquid (with the fines
+// it carries) filling its pores if saturated.
+std::vector<double> Simulation::unit_weights() const {
+  const double g = -scene_.gravity[scene_.dim - 1];
+  std::vector<double> weights;
+  for (const BodySpec& body : scene_.bodies) {
+    const double rho_s = materials_->phase(body.material).density();
+    double rho = rho_s;
+    if (body.liquid) {
+      const double rho_l = suspension_density(body.concentration, rho_s, mixture_->liquid(*body.liquid).density());
+      rho = (1 - body.porosity) * rho_s + body.porosity * rho_l;
+    }
+    weights.push_back(rho * g);
+  }
+  return weights;
+}
+
+double Simulation::critical_time_step() const {
+  // Dry bodies: h / sqrt(M / rho); saturated bodies: the mixture's limits.
+  const double h = domain_->grid.min_cell_size();
+  double dt = std::numeric_limits<double>::infinity();
+  for (const BodySpec& body : scene_.bodies) {
+    const Phase& phase = materials_->phase(body.material);
+    dt = std::min(dt, body.liquid ? mixture_->stable_time_step(body, phase, h)
+                                  : h / std::sqrt(phase.p_wave_modulus() / phase.density()));
+  }
+  dt = domain_->comm.min(dt);
+  if (!(dt > 0) || !std::isfinite(dt))
+    throw Error("cannot choose a time step automatically: no material has a positive wave speed; set /time/dt");
+  // Mass scaling multiplies every inertia by f: waves slow down by sqrt(f).
+  return scene_.cfl * dt * std::sqrt(scene_.mass_scaling);
+}
+
+template <class Work>
+void Simulation::timed(Stage stage, Work&& work) {
+  detail::StageTimer timer(times_, stage);
+  try {
+    work();
+  } catch (const std::exception& e) {
+    // What failed (a plugin, a guard) says what and where; this says when.
+    const std::string what = e.what();
+    if (what.rfind("step ", 0) == 0 || what.find("blew up at step") != std::string::npos ||
+        what.find("left the grid at step") != std::string::npos)
+      throw;
+    throw Error("step " + std::to_string(clock_.steps() + 1) + " (t = " + detail::format(clock_.time()) +
+                " s), stage " + stage_name(stage) + ": " + what);
+  }
+}
+
+void Simulation::apply_loads(NodeState& nodes, double time) {
+  // On many processes a condition that loads points reads every point, in
+  // the serial run's numbering, on every process (gathered once per step):
+  // each process adds the serial run's forces to its whole grid.
+  const PointSet* every = nullptr;
+  for (const auto& bc : bcs_) {
+    bc->apply_forces(domain_->grid, nodes, time);
+    if (!domain_->comm.parallel()) {
+      bc->apply_point_forces(domain_->grid, domain_->points, nodes, time);
+    } else if (bc->loads_points()) {
+      if (!every) every = load_every_point_ ? &domain_->every_point() : &domain_->points_at(loaded_points_);
+      bc->apply_point_forces(domain_->grid, *every, nodes, time);
+    }
+  }
+}
+
+void Simulation::points_renumbered() {
+  renumber_loaded_points();
+  // The writers, on the process that writes: every point's new number.
+  detail::Domain& d = *domain_;
+  const std::vector<std::size_t>& renumbered = point_order_->new_numbers();  // this process's points
+  std::vector<double> mine(renumbered.begin(), renumbered.end()), all;
+  d.comm.gather_to_root(mine, d.comm.all_counts(mine.size()), all);
+  if (!d.comm.root()) return;
+  const std::vector<std::size_t> new_number(all.begin(), all.end());
+  for (const auto& w : writers_) w->points_renumbered(new_number);
+}
+
+void Simulation::renumber_loaded_points() {
+  std::vector<std::size_t> ids;  // every point a condition loads, by id
+  for (const auto& named : loaded_ids_) ids.insert(ids.end(), named.begin(), named.end());
+  if (ids.empty() || !point_order_->id_field()) return;
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  // Each process finds those among its points; every process gets all.
+  detail::Domain& d = *domain_;
+  const double* id = d.points.data(*point_order_->id_field());
+  std::vector<double> mine, all;
+  for (std::size_t q = 0; q < d.points.size(); ++q)
+    if (std::binary_search(ids.begin(), ids.end(), static_cast<std::size_t>(id[q]))) {
+      mine.push_back(id[q]);
+      mine.push_back(static_cast<double>(d.first_point() + q));
+    }
+  d.comm.all_gather(mine, d.comm.all_counts(mine.size()), all);
+  std::vector<std::size_t> now(ids.size());
+  for (std::size_t k = 0; k + 1 < all.size(); k += 2)
+    now[static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), static_cast<std::size_t>(all[k])) -
+                                 ids.begin())] = static_cast<std::size_t>(all[k + 1]);
+  loaded_points_.clear();
+  for (std::size_t b = 0; b < bcs_.size(); ++b) {
+    if (loaded_ids_[b].empty()) continue;
+    std::vector<std::size_t> numbers(loaded_ids_[b].size());
+    for (std::size_t k = 0; k < numbers.size(); ++k)
+      numbers[k] = now[static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), loaded_ids_[b][k]) -
+                                                ids.begin())];
+    bcs_[b]->renumber_loaded_points(numbers);
+    loaded_points_.insert(loaded_points_.end(), numbers.begin(), numbers.end());
+  }
+  std::sort(loaded_points_.begin(), loaded_points_.end());
+  loaded_points_.erase(std::unique(loaded_points_.begin(), loaded_points_.end()), loaded_points_.end());
+}
+
+std::size_t Simulation::point_sorts() const { return point_order_->sorts(); }
+
+void Simulation::constrain_velocity(double time) {
+  for (const auto& bc : bcs_) bc->constrain_velocity(domain_->grid, domain_->nodes, time);
+}
+
+void Simulation::constrain_velocity_recording_reactions(double time, double dt) {
+  reactions_->start_constraints(*domain_);
+  for (std::size_t b = 0; b < bcs_.size(); ++b)
+    reactions_->constrain(b, *bcs_[b], *domain_, time, dt);
+}
+
+void Simulation::step() {
+  timed(Stage::shape, [&] { locate_points(); });  // shape functions at the points (sorted again if they mixed)
+  if (quasi_static_)
+    step_quasi_static();
+  else
+    step_explicit();
+}
+
+void Simulation::locate_points() {
+  detail::Domain& d = *domain_;
+  d.locate_points(clock_.steps(), clock_.time());
+  if (!point_order_->sort_if_spread(d)) return;
+  d.locate_points(clock_.steps(), clock_.time());  // in their new order
+  point_order_->take_reference(d);
+  points_renumbered();
+}
+
+// The MUSL step. Every stage is one call; the parts hold what differs
+// between dry and saturated runs.
+void Simulation::step_explicit() {
+  const double t = clock_.time(), dt = clock_.dt();
+  const std::size_t n = clock_.steps();
+  detail::Domain& d = *domain_;
+  timed(Stage::p2g, [&] { momentum_->points_to_grid(); });      // nodal mass, momentum, forces
+  timed(Stage::grid, [&] {
+    apply_loads(d.nodes, t);
+    momentum_->integrate_grid(dt);                              // nodal velocities at t + dt
+    constrain_velocity_recording_reactions(t + dt, dt);
+    momentum_->accelerations(dt);
+  });
+  timed(Stage::g2p, [&] { momentum_->grid_to_points(dt); });    // point velocities and positions
+  timed(Stage::remap, [&] {                                     // MUSL: nodal velocities again
+    momentum_->remap();
+    constrain_velocity(t + dt);
+  });
+  timed(Stage::strain, [&] { d.update_kinematics(dt); });       // L, strain, volume
+  if (mixture_) {
+    timed(Stage::pore_pressure, [&] { mixture_->update_pore_pressure(dt, n, t); });  // porosity, Darcy flux, p
+    timed(Stage::erosion, [&] { species_->erode(dt); });        // skeleton -> liquid, at the points
+    timed(Stage::permeability, [&] { mixture_->update_permeability(); });  // K follows the porosity
+  }
+  timed(Stage::stress, [&] { materials_->update_stress(d, dt); });  // (effective) stress, phase state
+  if (species_) timed(Stage::transport, [&] { species_->transport(dt); });  // liquid and fines cross the grid
+  timed(Stage::check, [&] { guard_->check(d, n + 1, t + dt, dt, dt); });  // a state, not a blow-up
+  clock_.advance();
+}
+
+// The quasi-static step: the equilibrium at t + dt, then erosion and
+// transport in substeps short enough for the transport, with the Darcy flux
+// of that equilibrium. The skeleton responds to this step's erosion in the
+// next step's equilibrium.
+void Simulation::step_quasi_static() {
+  const double t = clock_.time();
+  const std::size_t n = clock_.steps();
+  detail::Domain& d = *domain_;
+  const QuasiStaticControls& control = scene_.quasi_static;
+  double dt = clock_.dt();
+  for (;;) {  // halved until the equilibrium converges
+    std::optional<int> iterations;
+    timed(Stage::solve, [&] { iterations = quasi_static_->solve(t, dt); });
+    if (iterations) {
+      newton_iterations_ += static_cast<std::size_t>(*iterations);
+      if (const std::size_t held = quasi_static_->creep_held_points(); held > 0) {
+        if (creep_held_first_ == 0) creep_held_first_ = held, creep_held_from_ = t + dt;
+        if (held > creep_held_most_) creep_held_most_ = held, creep_held_most_at_ = t + dt;
+      }
+      break;
+    }
+    ++halved_steps_;
+    if (dt < 1e-6 * *scene_.dt)
+      throw Error("step " + std::to_string(n + 1) + " (t = " + detail::format(t) +
+                  " s): no equilibrium within /time/max_iterations = " + std::to_string(control.max_iterations) +
+                  " iterations, even after halving the step to " + detail::format(dt) +
+                  " s: the soil may be failing (a collapse has no quasi-static path; run it explicit)" +
+                  (quasi_static_->failure().empty() ? "" : ". At the last attempt " + quasi_static_->failure()));
+    dt /= 2;
+    clock_.set_step(dt);
+  }
+  for (std::size_t r = 0; r < reactions_->size(); ++r) {
+    const auto held = quasi_static_->held_by(reactions_->condition(r));
+    reactions_->add_equilibrium(r, held.force, held.displacement, dt);
+  }
+  timed(Stage::g2p, [&] { quasi_static_->update_points(dt); });  // positions, strain, porosity, p, Darcy flux
+  double transport_dt = dt;
+  if (species_) {
+    const double rate = quasi_static_->transport_rate();
+    const auto substeps = static_cast<int>(std::max(1.0, std::ceil(dt * rate / control.transport_courant)));
+    transport_dt = dt / substeps;
+    species_->start_step();
+    for (int k = 0; k < substeps; ++k) {
+      bool eroded = false;
+      double change = 0;
+      timed(Stage::erosion, [&] { eroded = d.comm.any(species_->erode(transport_dt)); });  // on any process
+      timed(Stage::transport, [&] {
+        species_->transport(transport_dt, detail::TransportScheme::heun);
+        change = species_->composition_change();
+      });
+      ++transport_substeps_;
+      // Steady: nothing erodes, and the substeps left, each changing the
+      // composition as much as this one, would stay within the tolerance.
+      // One implicit step then takes the rest (thousands of substeps in a
+      // washed-out column: docs/time-integration.md).
+      const int left = substeps - k - 1;
+      if (left > 0 && !eroded && change * left <= control.steady_transport_tolerance) {
+        timed(Stage::transport,
+              [&] { species_->transport(left * transport_dt, detail::TransportScheme::backward_euler); });
+        ++steady_transport_steps_;
+        break;
+      }
+    }
+    species_->finish_step();
+  }
+  if (mixture_) timed(Stage::permeability, [&] { mixture_->update_permeability(); });
+  timed(Stage::check, [&] { guard_->check(d, n + 1, t + dt, dt, transport_dt); });
+  clock_.advance();
+  // The next step: grown, unless this one eroded more than the tolerance.
+  double next = std::min(control.max_dt > 0 ? control.max_dt : *scene_.dt, control.growth * clock_.nominal_dt());
+  if (species_) {
+    const double eroded = species_->largest_eroded_fraction_increment();
+    if (eroded > 0) next = std::min(next, dt * control.eroded_fraction_tolerance / eroded);
+  }
+  clock_.set_step(next);
+}
+
+int Simulation::threads() const { return domain_->exec.threads(); }
+std::string Simulation::kernels() const { return detail::kernel_isa_name(domain_->exec.isa()); }
+const PointSet& Simulation::points() const { return domain_->points; }
+PointSet& Simulation::points() { return domain_->points; }
+const GridGeometry& Simulation::grid() const { return domain_->grid; }
+const NodeState& Simulation::nodes() const { return domain_->nodes; }
+
+const Liquid& Simulation::liquid(std::size_t index) const {
+  if (!mixture_) throw Error("liquid: the scene has no saturated body");
+  return mixture_->liquid(index);
+}
+
+MassLedger Simulation::mass_ledger() const {
+  if (!species_) throw Error("mass_ledger: the scene has no saturated body");
+  return species_->mass_ledger(clock_.time());
+}
+
+double Simulation::total_mass() const {
+  const PointSet& points = domain_->points;
+  const double* m = points.data(points.core().mass);
+  return domain_->exec.totals(points.size(), 1, [&](std::size_t p, double* sum) { sum[0] += m[p]; })[0];
+}
+
+std::array<double, 3> Simulation::total_momentum() const {
+  const PointSet& points = domain_->points;
+  const int dim = scene_.dim;
+  const double* m = points.data(points.core().mass);
+  const double* v = points.data(points.core().velocity);
+  const auto t = domain_->exec.totals(points.size(), dim, [&](std::size_t p, double* sum) {
+    for (int i = 0; i < dim; ++i) sum[i] += m[p] * v[p * dim + i];
+  });
+  return {t[0], t[1], t[2]};
+}
+
+}  // namespace suffuse

@@ -1,0 +1,176 @@
+// Bodies: boxes of material points, dry or saturated, with their initial state.
+#include "scene/scene_reader.hpp"
+
+namespace suffuse::detail {
+
+namespace {
+
+ParameterSchema body_schema() {
+  ParameterSchema s;
+  s.string("name").fallback(std::string()).doc("Name of the body, for messages");
+  s.string("material").doc("Name of a material defined under /materials");
+  s.vector("min").with_unit("m").doc("Lower corner of the box filled with material points");
+  s.vector("max").with_unit("m").doc("Upper corner of the box filled with material points");
+  s.integer("points_per_cell").with_unit("-").at_least(1).at_most(8).fallback(2LL).doc(
+      "Material points per cell along each axis");
+  s.vector("velocity").with_unit("m/s").fallback(std::vector<double>{}).doc("Initial velocity (default 0)");
+  s.string("liquid").may_be_absent().doc(
+      "Name of a liquid under /liquids that saturates the body (two-phase); its material's density is then "
+      "the density of the solid grains");
+  s.number("porosity").with_unit("-").above(0).below(1).may_be_absent().doc(
+      "Initial porosity n of a saturated body (required with liquid)");
+  s.vector("stress").of_length(6).with_unit("Pa").fallback(std::vector<double>{}).doc(
+      "Initial uniform (effective) stress xx, yy, zz, yz, xz, xy, tension positive (default zero)");
+  s.number("pore_pressure").with_unit("Pa").fallback(0.0).doc(
+      "Initial uniform pore pressure of a saturated body, compression positive");
+  s.number("water_table").with_unit("m").may_be_absent().doc(
+      "Elevation of the water table (y in 2D, z in 3D): adds the hydrostatic pore pressure rho_L g (water_table - "
+      "elevation) below it, for saturated bodies");
+  s.number("fines_content").with_unit("-").at_least(0).below(1).fallback(0.0).doc(
+      "Initial erodible fines content f_c of a saturated body: volume of fines / volume of solid. Part of the "
+      "solid, so the porosity counts them as solid");
+  s.number("ultimate_fines_content").with_unit("-").at_least(0).below(1).fallback(0.0).doc(
+      "Fines content f_c_inf below which no erosion law can go (at most fines_content)");
+  s.number("concentration").with_unit("-").at_least(0).at_most(1).fallback(0.0).doc(
+      "Initial concentration c of suspended fines in the pore liquid: volume of fines / volume of liquid");
+  s.number("k0").with_unit("-").at_least(0).may_be_absent().doc(
+      "Adds the geostatic effective stress: the total weight above each point (the body's soil and pore liquid, "
+      "the bodies stacked on it, water ponded above its water table) less the hydrostatic pore pressure, with "
+      "horizontal stress k0 times the vertical");
+  s.string("gradation").may_be_absent().doc(
+      "The soil's particle-size distribution: a PSD file, CSV with the units in its header (\"size [mm], "
+      "passing [%]\") or JSON, relative to the scene file. validate reports the internal-stability criteria on it "
+      "(docs/gradation.md)");
+  s.table("gradation_points", 2).with_unit("mm, %").may_be_absent().doc(
+      "The particle-size distribution inline, instead of \"gradation\": [[size, percent passing], ...], smallest "
+      "size first, 100 % at the largest");
+  s.boolean("fines_content_from_gradation").fallback(false).doc(
+      "Take fines_content from the gradation: the erodible fines the criteria identify (finer than the gap of a "
+      "gap-graded soil, else the shape curve's unstable part; 0 if no criterion finds it unstable; "
+      "docs/gradation.md). Instead of fines_content");
+
+  return s;
+}
+
+// Fines belong to saturated bodies: without a liquid there is nothing to carry them.
+void read_fines(SceneReader& r, const Parameters& b, const std::string& ptr, BodySpec& body) {
+  auto value = [&](const char* key) { return b.has(key) ? b.number(key) : 0.0; };
+  if (!body.fines_content_from_gradation) body.fines_content = value("fines_content");
+  body.ultimate_fines_content = value("ultimate_fines_content");
+  body.concentration = value("concentration");
+  for (const char* key : {"fines_content", "ultimate_fines_content", "concentration"}) {
+    const double v = std::string(key) == "fines_content" ? body.fines_content : value(key);
+    if (v != 0 && !b.has("liquid"))
+      r.error(ptr + "/" + key, "fines in a dry body", "0 without \"liquid\"", format(v), "core (body)");
+  }
+  // Compared only when both are valid: a rejected value is reported once.
+  const bool both_valid = (b.has("fines_content") || body.fines_content_from_gradation) && b.has("ultimate_fines_content");
+  if (both_valid && body.ultimate_fines_content > body.fines_content)
+    r.error(ptr + "/ultimate_fines_content", "ultimate fines content above the initial one",
+            "at most fines_content = " + format(body.fines_content), format(body.ultimate_fines_content),
+            "core (body)");
+}
+
+void read_bodies(SceneReader& r, Scene& scene) {
+  if (!r.require("bodies")) return;
+  const Json& bodies = r.root["bodies"];
+  if (!bodies.is_array() || bodies.empty()) {
+    r.error("/bodies", "wrong type", "a non-empty array of bodies", show(bodies), "core (scene)");
+    return;
+  }
+  std::vector<std::string> material_names;
+  for (const auto& m : scene.materials) material_names.push_back(m.name);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const std::string ptr = "/bodies/" + std::to_string(i);
+    Parameters b = validate_object(bodies[i], body_schema(), ptr, "core (body)", r.dim, r.diags);
+    BodySpec body;
+    if (b.has("name")) body.name = b.string("name");
+    // Messages name bodies: two of one name would be ambiguous.
+    for (std::size_t k = 0; k < scene.bodies.size() && !body.name.empty(); ++k)
+      if (scene.bodies[k].name == body.name)
+        r.error(ptr + "/name", "duplicate body name", "a name no other body has", "\"" + body.name + "\", as /bodies/" +
+                std::to_string(k) + "/name", "core (body)");
+    if (body.name.empty()) body.name = "body " + std::to_string(i);
+    if (b.has("points_per_cell")) body.points_per_cell = static_cast<int>(b.integer("points_per_cell"));
+    if (b.has("velocity")) body.velocity = to_array(b.vector("velocity"));
+    if (b.has("material")) {
+      const std::string& mat = b.string("material");
+      bool found = false;
+      for (std::size_t m = 0; m < scene.materials.size(); ++m)
+        if (scene.materials[m].name == mat) body.material = m, found = true;
+      if (!found)
+        r.error(ptr + "/material", "undefined material", "one of " + list(material_names), "\"" + mat + "\"",
+                "core (body)");
+    }
+    if (b.has("liquid")) {
+      const std::string& liquid = b.string("liquid");
+      std::vector<std::string> names;
+      for (std::size_t l = 0; l < scene.liquids.size(); ++l) {
+        names.push_back(scene.liquids[l].name);
+        if (scene.liquids[l].name == liquid) body.liquid = l;
+      }
+      if (!body.liquid)
+        r.error(ptr + "/liquid", "undefined liquid", "one of " + list(names), "\"" + liquid + "\"", "core (body)");
+      if (!b.has("porosity") && bodies[i].is_object() && !bodies[i].contains("porosity"))
+        r.error(ptr + "/porosity", "missing porosity of a saturated body", "number in (0, 1) [-]", "nothing",
+                "core (body)");
+      if (b.has("material") && body.material < scene.materials.size() &&
+          !scene.materials[body.material].permeability &&
+          r.root["materials"].contains(scene.materials[body.material].name))
+        r.error(pointer_append("/materials", scene.materials[body.material].name) + "/permeability",
+                "missing permeability of a material in a saturated body",
+                "a permeability law plugin node, e.g. {\"type\": \"permeability/constant\", ...}", "nothing",
+                "core (material)");
+    } else if (b.has("porosity")) {
+      r.error(ptr + "/porosity", "porosity of a dry body", "no porosity without \"liquid\"",
+              format(b.number("porosity")), "core (body)");
+    }
+    if (b.has("porosity")) body.porosity = b.number("porosity");
+    if (b.has("water_table")) {
+      body.water_table = b.number("water_table");
+      if (!b.has("liquid"))
+        r.error(ptr + "/water_table", "water table in a dry body", "no water_table without \"liquid\"",
+                format(*body.water_table), "core (body)");
+    }
+    if (b.has("k0")) body.k0 = b.number("k0");
+    read_gradation(r, bodies[i], b, ptr, body);
+    read_fines(r, b, ptr, body);
+    if (b.has("stress")) {
+      const auto& s = b.vector("stress");
+      for (std::size_t c = 0; c < s.size() && c < 6; ++c) body.stress[c] = s[c];
+    }
+    if (b.has("pore_pressure")) {
+      body.pore_pressure = b.number("pore_pressure");
+      if (body.pore_pressure != 0 && !b.has("liquid"))
+        r.error(ptr + "/pore_pressure", "pore pressure of a dry body", "0 without \"liquid\"",
+                format(body.pore_pressure), "core (body)");
+    }
+    if (b.has("min") && b.has("max")) {
+      body.min = to_array(b.vector("min"));
+      body.max = to_array(b.vector("max"));
+      for (int a = 0; a < r.dim; ++a) {
+        if (!(body.min[a] < body.max[a]))
+          r.error(ptr + "/max/" + std::to_string(a), "empty box",
+                  "a value above min[" + std::to_string(a) + "] = " + format(body.min[a]), format(body.max[a]),
+                  "core (body)");
+        if (!r.grid_ok) continue;
+        const double lo = scene.grid_origin[a];
+        const double hi = lo + scene.grid_cell_size[a] * scene.grid_cells[a];
+        const double tol = 1e-9 * scene.grid_cell_size[a];  // round-off in origin + h * cells
+        if (body.min[a] < lo - tol || body.max[a] > hi + tol)
+          r.error(ptr + (body.min[a] < lo - tol ? "/min/" : "/max/") + std::to_string(a), "body outside the grid",
+                  "a box within the grid [" + format(lo) + ", " + format(hi) + "]",
+                  format(body.min[a] < lo - tol ? body.min[a] : body.max[a]), "core (body)");
+      }
+    }
+    scene.bodies.push_back(body);
+  }
+}
+
+}  // namespace
+
+SceneSection bodies_section() {
+  return {"bodies", "body", "A box of material points of one material (an entry of /bodies)", body_schema, read_bodies};
+}
+
+}  // namespace suffuse::detail
