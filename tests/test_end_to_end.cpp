@@ -631,7 +631,7 @@ TEST(EndToEnd, FailingPluginIsNamedAndOutputsStayReadable) {
           << log;
     else
       EXPECT_NE(log.find("the run blew up at step 1 (t = 0.000790569 s): material point 79 (id 79) of body 'bar' at "
-                         "(0.987508, 0.0375), material 'steel_like' (phase/test_failing): stress = nan, not finite"),
+                         "(0.987508, 0.0375), material 'steel_like' (phase/test_failing): stress = NaN, not finite"),
                 std::string::npos)
           << log;
     const auto frames = read_pvd(dir / (std::string(name) + ".pvd"));

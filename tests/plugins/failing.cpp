@@ -27,7 +27,8 @@ class FailingPhase final : public suffuse::Phase {
   void update_stress(const suffuse::StressBatch& b) const override {
     if (throws_) throw std::runtime_error("the test phase fails");
     if (b.range.size() > 0)
-      b.points.data(b.points.core().stress)[(b.range.end - 1) * 6 + 1] = std::numeric_limits<double>::quiet_NaN();
+      // A negative NaN, as arithmetic makes them: the run must not report "-nan".
+      b.points.data(b.points.core().stress)[(b.range.end - 1) * 6 + 1] = -std::numeric_limits<double>::quiet_NaN();
   }
 
  private:

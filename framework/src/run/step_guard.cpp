@@ -54,27 +54,36 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt, doubl
   const double* q = mixture_ ? pts.data(mixture_->darcy_flux) : nullptr;
   const double courant_limit = 0.5 * d.grid.min_cell_size() / transport_dt;  // |q| / n below it
   const double max_speed = d.grid.min_cell_size() / dt;  // a cell per step
-  // Only a chunk with suspects is searched point by point.
-  auto first_failure = [&](std::size_t b, std::size_t e) -> std::optional<Failure> {
-    for (std::size_t i = b; i < e; ++i) {
-      double speed2 = 0;
-      for (int a = 0; a < D; ++a) speed2 += v[i * D + a] * v[i * D + a];
-      if (!(speed2 <= max_speed * max_speed))
-        return Failure{i, "velocity", std::sqrt(speed2),
-                       std::isfinite(speed2) ? "moves more than a cell in one step" : "not finite"};
-      for (int c = 0; c < 6; ++c)
-        if (!std::isfinite(s[i * 6 + c])) return Failure{i, "stress", s[i * 6 + c], "not finite"};
-      if (p && !std::isfinite(p[i])) return Failure{i, "pore_pressure", p[i], "not finite"};
-      if (n && n[i] != 0 && !(n[i] > 0 && n[i] < 1)) return Failure{i, "porosity", n[i], "outside (0, 1)"};
-      if (q && n[i] > 0) {
-        double q2 = 0;
-        for (int a = 0; a < D; ++a) q2 += q[i * D + a] * q[i * D + a];
-        if (!(q2 <= courant_limit * courant_limit * n[i] * n[i]))
-          return Failure{i, "darcy_flux", std::sqrt(q2),
-                         "the pore liquid crosses more than half a cell in one step (q dt / (n h) > 0.5)"};
-      }
+  // The first failure of a point, if any, by the order of the checks.
+  auto failure_of = [&](std::size_t i) -> std::optional<Failure> {
+    double speed2 = 0;
+    for (int a = 0; a < D; ++a) speed2 += v[i * D + a] * v[i * D + a];
+    if (!(speed2 <= max_speed * max_speed))
+      return Failure{0, i, "velocity", std::sqrt(speed2),
+                     std::isfinite(speed2) ? "moves more than a cell in one step" : "not finite"};
+    for (int c = 0; c < 6; ++c)
+      if (!std::isfinite(s[i * 6 + c])) return Failure{1, i, "stress", s[i * 6 + c], "not finite"};
+    if (p && !std::isfinite(p[i])) return Failure{2, i, "pore_pressure", p[i], "not finite"};
+    if (n && n[i] != 0 && !(n[i] > 0 && n[i] < 1))
+      return Failure{3, i, "porosity", n[i], std::isfinite(n[i]) ? "outside (0, 1)" : "not finite"};
+    if (q && n[i] > 0) {
+      double q2 = 0;
+      for (int a = 0; a < D; ++a) q2 += q[i * D + a] * q[i * D + a];
+      if (!(q2 <= courant_limit * courant_limit * n[i] * n[i]))
+        return Failure{4, i, "darcy_flux", std::sqrt(q2),
+                       "the pore liquid crosses more than half a cell in one step (q dt / (n h) > 0.5)"};
     }
     return std::nullopt;
+  };
+  auto before = [](const std::optional<Failure>& a, const std::optional<Failure>& b) {  // a comes first
+    return a && (!b || a->check < b->check || (a->check == b->check && a->point < b->point));
+  };
+  // Only a chunk with suspects is searched point by point.
+  auto first_failure = [&](std::size_t b, std::size_t e) {
+    std::optional<Failure> first;
+    for (std::size_t i = b; i < e; ++i)
+      if (auto f = failure_of(i); before(f, first)) first = f;
+    return first;
   };
   std::vector<std::optional<Failure>>& found = found_;  // per thread; sized once, no allocation per step
   found.assign(static_cast<std::size_t>(d.exec.threads()), std::nullopt);
@@ -82,10 +91,14 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt, doubl
   d.exec.for_chunks(pts.size(), [&](int t, std::size_t b, std::size_t e) {
     std::size_t suspects = 0;
     d.exec.vector_kernel(D, [&]<int Dim, int>() { suspects = count_suspects<Dim>(in, b, e); });
-    if (suspects) found[t] = first_failure(b, e);
+    if (!suspects) return;
+    if (auto f = first_failure(b, e); before(f, found[t])) found[t] = f;
   });
-  for (const auto& f : found) {
-    if (!f) continue;
+  std::optional<Failure> first;
+  for (const auto& f : found)
+    if (before(f, first)) first = f;
+  if (first) {
+    const Failure* f = &*first;
     std::ostringstream msg;
     msg.precision(6);
     const double* x = pts.data(pts.core().position);
@@ -97,7 +110,10 @@ void StepGuard::check(Domain& d, std::size_t step, double time, double dt, doubl
       }
     msg << "the run blew up at step " << step << " (t = " << time << " s): " << d.point_name(f->point) << " of body '" << body << "' at (";
     for (int a = 0; a < D; ++a) msg << (a ? ", " : "") << x[f->point * D + a];
-    msg << "), material '" << material << ": " << f->field << " = " << f->value << ", " << f->problem
+    msg << "), material '" << material << ": " << f->field << " = ";
+    if (std::isnan(f->value)) msg << "NaN";  // not "-nan": a NaN's sign means nothing
+    else msg << f->value;
+    msg << ", " << f->problem
         << ". The time step (" << dt << " s) may be too large for this scene: remove /time/dt or lower it "
         << "(or lower /time/cfl), and check loads, gravity and material parameters";
     throw Error(msg.str());

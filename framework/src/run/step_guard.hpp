@@ -2,10 +2,12 @@
 // Checks at the end of every step that the state is still a state: finite
 // velocities, stresses and pore pressures, no point moving more than a cell
 // in a step (the explicit scheme has then already lost stability), porosity
-// inside (0, 1), and pore liquid crossing less than half a cell's pores in a
+// inside (0, 1), pore liquid crossing less than half a cell's pores in a
 // step (the transport's Courant number q dt / (n h) below 0.5: beyond, the
-// liquid a point carries departs from its pore volume). The first point that fails stops the run with its index,
-// body, position, field and value, and what to try.
+// liquid a point carries departs from its pore volume). A run stops at its
+// first failing check, in that order of the fields (a blow-up's first sign,
+// a point moving too far, is named before the NaNs it spreads), naming the
+// point, its body, position, field and value, and what to try.
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -18,6 +20,7 @@ namespace suffuse::detail {
 class StepGuard {
  public:
   struct Failure {
+    int check;  // its rank in the order of the checks
     std::size_t point;
     const char* field;
     double value;
