@@ -163,9 +163,10 @@ TEST(ModuleLayout, NoSourcePasses600LinesNorWithItsHeader800) {
       if (file.extension() != ".cpp") continue;
       fs::path header = file;
       header.replace_extension(".hpp");
-      if (fs::exists(header))
+      if (fs::exists(header)) {
         EXPECT_LE(lines + line_count(header), 800u)
             << fs::relative(file, source_dir).string() << " with its header";
+      }
     }
   }
 }
