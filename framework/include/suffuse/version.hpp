@@ -7,6 +7,6 @@ namespace suffuse {
 
 inline constexpr int abi_major = 14;
 inline constexpr int abi_minor = 0;
-inline constexpr const char* framework_version = "0.14.4";
+inline constexpr const char* framework_version = "0.14.5";
 
 }  // namespace suffuse

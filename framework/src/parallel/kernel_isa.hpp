@@ -21,7 +21,8 @@ enum class KernelIsa { portable, avx2 };
 KernelIsa kernel_isa_for_this_machine();
 std::string kernel_isa_name(KernelIsa isa);
 
-#if defined(__x86_64__) && defined(__GNUC__)
+// SUFFUSE_PORTABLE_KERNELS_ONLY: no AVX2 copies (the sanitized build).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(SUFFUSE_PORTABLE_KERNELS_ONLY)
 #define SUFFUSE_HAS_AVX2_KERNELS 1
 template <class Kernel>
 __attribute__((target("avx2"), flatten)) void run_avx2(int dim, const Kernel& kernel) {
