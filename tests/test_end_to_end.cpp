@@ -776,3 +776,19 @@ TEST(EndToEnd, EveryOutputSaysItsUnits) {
   EXPECT_EQ(units["grid: point_count"], "-");
   EXPECT_EQ(units["triaxial_mcc.element.csv: increment"], "-");
 }
+
+// Warnings reach the user whatever --quiet says (on standard error): a body
+// whose fines, washed out, would leave porosity 0.999.
+TEST(EndToEnd, WarningsAreGivenUnderQuiet) {
+  const fs::path out = fresh_dir("quiet_warning");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
+  j["bodies"][0]["porosity"] = 0.9;
+  j["bodies"][0]["fines_content"] = 0.99;
+  j["time"]["end"] = 0.001;
+  j["outputs"] = nlohmann::json::array();
+  std::ofstream(out / "open.json") << j.dump(2);
+  run("run " + (out / "open.json").string() + " --quiet --output " + (out / "run").string(), out / "log.txt");
+  EXPECT_NE(slurp(out / "log.txt").find("warning: body 'column': washing out its erodible fines (fines_content 0.99"),
+            std::string::npos)
+      << slurp(out / "log.txt");
+}
