@@ -1,6 +1,11 @@
 #include "chart_output.hpp"
 
 #include <vtkAxis.h>
+#include <vtkChartXY.h>
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkRenderer.h>
+#include <vtkVector.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -94,6 +99,19 @@ void write_atomically(const fs::path& file, const std::function<void(const fs::p
     if (dynamic_cast<const Error*>(&e)) throw;
     throw Error("cannot write " + file.string() + ": " + e.what());
   }
+}
+
+void draw_charts_into(vtkContextView* view, vtkGenericOpenGLRenderWindow* window) {
+  view->SetRenderWindow(window);
+  view->GetRenderer()->SetBackground(1, 1, 1);
+}
+
+vtkChartXY* add_chart(vtkContextView* view, const vtkRectf& rect) {
+  vtkNew<vtkChartXY> chart;
+  view->GetScene()->AddItem(chart);
+  chart->SetLayoutStrategy(vtkChart::FILL_RECT);
+  chart->SetSize(rect);
+  return chart;
 }
 
 }  // namespace suffuse::render

@@ -12,6 +12,9 @@
 #include "offscreen_render_window.hpp"
 
 class vtkAxis;
+class vtkChartXY;
+class vtkContextView;
+class vtkRectf;
 class vtkTextProperty;
 
 namespace suffuse::render {
@@ -32,6 +35,13 @@ vtkSmartPointer<vtkImageData> read_image(vtkGenericOpenGLRenderWindow* window, i
 
 // Writes IMAGE to FILE as PNG. Throws suffuse::Error.
 void write_png(vtkImageData* image, const std::filesystem::path& file, const VtkMessages& messages);
+// VIEW drawing into WINDOW on a white background, and a chart added to it
+// whose plot fills RECT (pixels from the bottom left; a margin around it
+// for tick labels at the ends of the axes): every chart figure's set-up.
+// The view's scene keeps the chart.
+void draw_charts_into(vtkContextView* view, vtkGenericOpenGLRenderWindow* window);
+vtkChartXY* add_chart(vtkContextView* view, const vtkRectf& rect);
+
 // An axis as every figure draws it: TITLE in bold at TITLE_SIZE points, tick
 // labels at LABEL_SIZE, a black axis line and a light grey grid.
 void style_axis(vtkAxis* axis, const std::string& title, int title_size, int label_size);

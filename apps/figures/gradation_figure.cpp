@@ -77,15 +77,11 @@ void render_to(const Gradation& g, const InternalStability& s, const fs::path& f
   messages.check("cannot initialise OpenGL");
   {
     vtkNew<vtkContextView> view;
-    view->SetRenderWindow(window);
-    view->GetRenderer()->SetBackground(1, 1, 1);
+    render::draw_charts_into(view, window);
 
     // The gradation curve: straight between the points on the log-size axis,
     // as it is interpolated.
-    vtkNew<vtkChartXY> psd;
-    view->GetScene()->AddItem(psd);
-    psd->SetLayoutStrategy(vtkChart::FILL_RECT);
-    psd->SetSize(vtkRectf(10, 10, width / 2.0f - 30, height - 25));
+    vtkChartXY* psd = render::add_chart(view, vtkRectf(10, 10, width / 2.0f - 30, height - 25));
     Line curve{"percent passing", {}, {31, 119, 180}};
     for (std::size_t i = 0; i < g.sizes_mm().size(); ++i)
       curve.points.push_back({g.sizes_mm()[i], 100 * g.passing_points()[i]});
@@ -97,10 +93,7 @@ void render_to(const Gradation& g, const InternalStability& s, const fs::path& f
     psd->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
 
     // The shape curve with the boundaries of the criteria drawn on it.
-    vtkNew<vtkChartXY> shape;
-    view->GetScene()->AddItem(shape);
-    shape->SetLayoutStrategy(vtkChart::FILL_RECT);
-    shape->SetSize(vtkRectf(width / 2.0f + 10, 10, width / 2.0f - 35, height - 25));
+    vtkChartXY* shape = render::add_chart(view, vtkRectf(width / 2.0f + 10, 10, width / 2.0f - 35, height - 25));
     const double f_max = 100 * s.shape_curve_limit, f_end = std::max(50.0, f_max + 10);
     Line h{"shape curve H(F)", {}, {31, 119, 180}};
     double h_top = 1.3 * f_max;

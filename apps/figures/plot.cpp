@@ -182,14 +182,9 @@ void render(const std::vector<Series>& series, const PlotOptions& o, const std::
 
   {
     vtkNew<vtkContextView> view;
-    view->SetRenderWindow(window);
-    view->GetRenderer()->SetBackground(1, 1, 1);
-
-    vtkNew<vtkChartXY> chart;
-    view->GetScene()->AddItem(chart);
-    // A margin around the chart for the tick labels that stand out at the ends of the axes.
-    chart->SetLayoutStrategy(vtkChart::FILL_RECT);
-    chart->SetSize(vtkRectf(10, 10, static_cast<float>(o.width - 35), static_cast<float>(o.height - 25)));
+    render::draw_charts_into(view, window);
+    const vtkRectf plot_area(10, 10, static_cast<float>(o.width - 35), static_cast<float>(o.height - 25));
+    vtkChartXY* chart = render::add_chart(view, plot_area);
     if (!o.title.empty()) {
       chart->SetTitle(o.title);
       style_text(chart->GetTitleProperties(), 20, true);
