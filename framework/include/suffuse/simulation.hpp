@@ -240,10 +240,10 @@ class Simulation {
   // Checkpoints (checkpoint.cpp): `frames` is how many frames each writer
   // wrote; `ends_run_at`: the end time of the run whose end it stands for
   // (written before a last step shortened to land on that end).
-  void save_checkpoint(const std::filesystem::path& file, const std::vector<std::size_t>& frames,
+  void save_checkpoint(const std::filesystem::path& file, const WriterCheckpoint& writers,
                        std::optional<double> ends_run_at = std::nullopt) const;
   struct Restored {
-    std::vector<std::size_t> frames;   // each writer's frame count
+    WriterCheckpoint writers;           // each writer's frame count and state
     std::optional<double> ends_run_at;  // as saved
   };
   // Replaces the evolving state by the checkpoint's.

@@ -53,11 +53,19 @@ struct OutputFrame {
   OutputSeries& series;
 };
 
-// Where a resumed writer continues: the checkpoint's time, and how many
-// frames this writer had written up to it (at times <= time).
+// Where a resumed writer continues: the checkpoint's time, how many frames
+// this writer had written up to it (at times <= time), and what its
+// saved_state() returned when the checkpoint was written.
 struct ResumePoint {
   double time;
   std::size_t frames;
+  std::string state;
+};
+
+// What a checkpoint keeps of a run's writers, in the scene's order.
+struct WriterCheckpoint {
+  std::vector<std::size_t> frames;  // frames each has written
+  std::vector<std::string> states;  // each one's saved_state()
 };
 
 class Writer {
@@ -77,6 +85,10 @@ class Writer {
   // the new number of the point numbered p until now. A writer that keeps
   // point numbers between frames (a followed point) takes the new ones.
   virtual void points_renumbered(std::span<const std::size_t> new_number) { (void)new_number; }
+  // What the writer must find again in a restarted run that its files do
+  // not hold (a followed point's number, say), as text; written into every
+  // checkpoint and handed back in ResumePoint::state.
+  virtual std::string saved_state() const { return {}; }
   // Whether write() reads OutputFrame::grid_fields (the core projects them
   // only then).
   virtual bool wants_grid_fields() const { return false; }

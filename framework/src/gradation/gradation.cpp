@@ -12,7 +12,7 @@ namespace suffuse {
 
 namespace {
 
-std::string text(double v) {
+std::string as_text(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
@@ -46,26 +46,26 @@ std::optional<GradationProblem> check_gradation(const std::vector<std::array<dou
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const double size = rows[i][0], percent = rows[i][1];
     if (!std::isfinite(size) || size <= 0)
-      return GradationProblem{i, 0, "size not positive", "a particle size > 0", text(size)};
+      return GradationProblem{i, 0, "size not positive", "a particle size > 0", as_text(size)};
     if (!std::isfinite(percent) || percent < 0 || percent > 100)
-      return GradationProblem{i, 1, "percent passing outside 0-100", "a percent passing in [0, 100]", text(percent)};
+      return GradationProblem{i, 1, "percent passing outside 0-100", "a percent passing in [0, 100]", as_text(percent)};
     if (i == 0) continue;
     const double size_before = rows[i - 1][0], percent_before = rows[i - 1][1];
     if (down ? size >= size_before : size <= size_before)
       return GradationProblem{i, 0, down ? "sizes not decreasing" : "sizes not increasing",
                               std::string(down ? "a size below" : "a size above") + " the previous row's " +
-                                  text(size_before) + order,
-                              text(size)};
+                                  as_text(size_before) + order,
+                              as_text(size)};
     if (down ? percent > percent_before : percent < percent_before)
       return GradationProblem{i, 1, down ? "percent passing increases" : "percent passing decreases",
                               std::string(down ? "at most" : "at least") + " the previous row's " +
-                                  text(percent_before) + " (a cumulative curve)",
-                              text(percent)};
+                                  as_text(percent_before) + " (a cumulative curve)",
+                              as_text(percent)};
   }
   const std::size_t largest = down ? 0 : rows.size() - 1;
   if (rows[largest][1] != 100)
     return GradationProblem{largest, 1, "the curve does not reach 100 percent passing",
-                            "100 at the largest size (the whole sample passes it)", text(rows[largest][1])};
+                            "100 at the largest size (the whole sample passes it)", as_text(rows[largest][1])};
   return std::nullopt;
 }
 

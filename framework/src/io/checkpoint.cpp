@@ -59,7 +59,7 @@ class HashedFile {
 
 }  // namespace
 
-void Simulation::save_checkpoint(const std::filesystem::path& file, const std::vector<std::size_t>& frames,
+void Simulation::save_checkpoint(const std::filesystem::path& file, const WriterCheckpoint& writers,
                                  std::optional<double> ends_run_at) const {
   // Every process's points, in the serial run's order: the same file as a
   // serial run's (the first process writes it).
@@ -78,7 +78,8 @@ void Simulation::save_checkpoint(const std::filesystem::path& file, const std::v
   h["clock_origin"] = clock.origin;
   h["steps_since_origin"] = clock.since_origin;
   h["point_order_reference"] = point_order_->reference();  // when the points are sorted next
-  h["writer_frames"] = frames;
+  h["writer_frames"] = writers.frames;
+  h["writer_states"] = writers.states;
   if (ends_run_at) h["ends_run_at"] = *ends_run_at;
   for (FieldId f = 0; f < pts.field_count(); ++f)
     h["fields"].push_back({{"name", pts.info(f).name}, {"components", pts.components(f)}});
@@ -191,7 +192,9 @@ Simulation::Restored Simulation::load_checkpoint(const std::filesystem::path& fi
   renumber_loaded_points();  // the checkpoint's points may have been sorted
   clock_.restore({h.at("dt").get<double>(), h.at("time").get<double>(), h.at("clock_origin").get<double>(),
                   h.at("steps").get<std::size_t>(), h.at("steps_since_origin").get<std::size_t>()});
-  Restored restored{h.at("writer_frames").get<std::vector<std::size_t>>(), std::nullopt};
+  Restored restored{{h.at("writer_frames").get<std::vector<std::size_t>>(),
+                     h.at("writer_states").get<std::vector<std::string>>()},
+                    std::nullopt};
   if (h.contains("ends_run_at")) restored.ends_run_at = h.at("ends_run_at").get<double>();
   return restored;
 }

@@ -84,8 +84,16 @@ void RunOutputs::start(double time, std::size_t step) {
   next_row_ = row_interval_;
 }
 
-void RunOutputs::resume(double time, const std::vector<std::size_t>& frames) {
+WriterCheckpoint RunOutputs::checkpoint() const {
+  WriterCheckpoint saved{frames_, {}};
+  if (writes_)
+    for (const auto& w : writers_) saved.states.push_back(w->saved_state());
+  return saved;
+}
+
+void RunOutputs::resume(double time, const WriterCheckpoint& saved) {
   if (dir_.empty()) return;
+  const std::vector<std::size_t>& frames = saved.frames;
   if (frames.size() != writers_.size())
     throw Error("cannot restart: the checkpoint has " + std::to_string(frames.size()) + " writers, the scene " +
                 std::to_string(writers_.size()));
@@ -101,7 +109,8 @@ void RunOutputs::resume(double time, const std::vector<std::size_t>& frames) {
   if (species_) open_csv(ledger_, ".ledger.csv", time, ledger);
   if (!reactions_.empty()) open_csv(reactions_csv_, ".reactions.csv", time, ledger);
   for (std::size_t w = 0; w < writers_.size(); ++w)
-    writers_[w]->resume(dir_, output_basename(scene_, w), ResumePoint{time, frames[w]});
+    writers_[w]->resume(dir_, output_basename(scene_, w),
+                        ResumePoint{time, frames[w], w < saved.states.size() ? saved.states[w] : std::string()});
   series_->save();
 }
 

@@ -30,14 +30,15 @@ class RunOutputs {
   // A new run: creates the files and writes the initial state.
   void start(double time, std::size_t step);
   // A restarted run: keeps what was written up to `time` (each writer had
-  // written frames[w] frames) and appends after it.
-  void resume(double time, const std::vector<std::size_t>& frames);
+  // written saved.frames[w] frames) and appends after it.
+  void resume(double time, const WriterCheckpoint& saved);
   // After a step: the frames and rows due at `now` (every one at the end).
   void after_step(double now, std::size_t step, bool at_end);
   void close();
 
-  // Frames each writer has written so far (saved in checkpoints).
-  const std::vector<std::size_t>& frames() const { return frames_; }
+  // What a checkpoint keeps of the writers now: the frames each has written
+  // and, on the process that writes, its state.
+  WriterCheckpoint checkpoint() const;
 
  private:
   double next_multiple(double interval, double now) const;

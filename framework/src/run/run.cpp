@@ -64,7 +64,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     if (at >= end)
       throw Error("cannot restart from " + options.restart.string() + ": it is at t = " + std::to_string(at) +
                   " s, the scene ends at " + std::to_string(end) + " s; raise /time/end to extend the run");
-    outputs.resume(clock_.time(), restored.frames);
+    outputs.resume(clock_.time(), restored.writers);
   } else {
     outputs.start(clock_.time(), clock_.steps());
   }
@@ -106,7 +106,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     const bool end_saved_before = !dir.empty() && scene_.checkpoint_at_end && dt < clock_.nominal_dt();
     if (end_saved_before) {
       detail::StageTimer timer(times_, Stage::output);
-      save_checkpoint(end_checkpoint, outputs.frames(), end);
+      save_checkpoint(end_checkpoint, outputs.checkpoint(), end);
     }
     step();
     const double now = clock_.time();
@@ -119,7 +119,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     if (!dir.empty() && !(end_saved_before && at_end) &&
         (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() || (at_end && scene_.checkpoint_at_end) || stopping)) {
       detail::StageTimer timer(times_, Stage::output);
-      save_checkpoint(checkpoint, outputs.frames());
+      save_checkpoint(checkpoint, outputs.checkpoint());
       checkpoint_due = next_checkpoint(now);
     }
     if (options.on_step) {

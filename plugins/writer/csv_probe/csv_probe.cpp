@@ -97,6 +97,17 @@ class CsvProbe final : public suffuse::Writer {
     header_due_ = true;
   }
   void resume(const fs::path& directory, const std::string& basename, const suffuse::ResumePoint& at) override {
+    // The point followed when the checkpoint was written (its number in the
+    // checkpoint's order, which the restarted run's points keep): picked
+    // again from position - displacement, round-off could choose another
+    // point of a tie.
+    if (!at.state.empty()) {
+      try {
+        followed_ = std::stoull(at.state);
+      } catch (const std::exception&) {
+        throw suffuse::Error(where_ + " (writer/csv_probe): the checkpoint's followed point is not a number: " + at.state);
+      }
+    }
     file_ = directory / (basename + ".csv");
     const bool kept = suffuse::keep_csv_rows_until(file_, at.time);
     out_.open(file_, kept ? std::ios::app : std::ios::trunc);
@@ -144,6 +155,8 @@ class CsvProbe final : public suffuse::Writer {
     out_ << '\n';
   }
 
+  std::string saved_state() const override { return followed_ ? std::to_string(*followed_) : std::string(); }
+
   void points_renumbered(std::span<const std::size_t> new_number) override {
     if (followed_) followed_ = new_number[*followed_];
   }
@@ -151,7 +164,12 @@ class CsvProbe final : public suffuse::Writer {
   // The followed point: nearest to `at` in the initial configuration
   // (position - displacement), so a restarted run follows the same one.
   std::size_t followed_point(const suffuse::PointSet& pts) {
-    if (followed_) return *followed_;
+    if (followed_) {
+      if (*followed_ >= pts.size())
+        throw suffuse::Error(where_ + " (writer/csv_probe): the checkpoint's followed point " +
+                             std::to_string(*followed_) + " is not among the run's " + std::to_string(pts.size()));
+      return *followed_;
+    }
     const double* x = pts.data(pts.core().position);
     const double* u = pts.data(pts.core().displacement);
     // Of points equally near, the first in the run's initial numbering
