@@ -13,12 +13,13 @@
 
 namespace suffuse {
 
-enum class ParamType { Number, Integer, Boolean, String, Choice, Vector, StringList, Table };
+enum class ParamType { Number, Integer, Boolean, String, Choice, Vector, StringList, Table, Tables };
 
 // A parameter value after validation.
-// A Table is rows of numbers, each row `length` long, stored row after row.
-using ParamValue =
-    std::variant<double, long long, bool, std::string, std::vector<double>, std::vector<std::string>>;
+// A Table is rows of numbers, each row `length` long, stored row after row;
+// Tables are any number of such tables (the holes of a polygon).
+using ParamValue = std::variant<double, long long, bool, std::string, std::vector<double>, std::vector<std::string>,
+                                std::vector<std::vector<double>>>;
 
 // Declaration of one parameter. Built through the fluent setters of ParameterSchema.
 struct Param {
@@ -65,6 +66,12 @@ class ParameterSchema {
     p.length = columns;
     return p;
   }
+  // Any number of tables of `columns` numbers per row: read with Parameters::tables.
+  Param& tables(std::string name, int columns) {
+    Param& p = add(std::move(name), ParamType::Tables);
+    p.length = columns;
+    return p;
+  }
   Param& choice(std::string name, std::vector<std::string> choices) {
     Param& p = add(std::move(name), ParamType::Choice);
     p.choices = std::move(choices);
@@ -98,6 +105,7 @@ class Parameters {
   const std::string& string(const std::string& name) const;
   const std::vector<double>& vector(const std::string& name) const;
   const std::vector<std::string>& string_list(const std::string& name) const;
+  const std::vector<std::vector<double>>& tables(const std::string& name) const;
   // Optional parameters without default.
   std::optional<double> maybe_number(const std::string& name) const;
 

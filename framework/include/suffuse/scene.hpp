@@ -13,6 +13,7 @@
 #include "suffuse/parameters.hpp"
 #include "suffuse/plugin.hpp"
 #include "suffuse/plugin_loader.hpp"
+#include "suffuse/polygon.hpp"
 
 namespace suffuse {
 
@@ -38,7 +39,15 @@ struct LiquidSpec {
 struct BodySpec {
   std::string name;
   std::size_t material = 0;  // index into Scene::materials
+  // The box the body fills, or, with a polygon, the box that holds it.
   std::array<double, 3> min{}, max{};
+  // A polygon body (docs/geometry.md): in 2D in the x-y plane; in 3D in the
+  // plane of the two axes but extrusion_axis (in increasing order), extruded
+  // from min to max along that axis. Points lie on the grid's lattice
+  // (points_per_cell per cell and axis), those whose centre is inside.
+  std::optional<Polygon> polygon;
+  int extrusion_axis = 2;
+  std::string shape_source;  // the polygon's file, or its JSON pointer when inline
   int points_per_cell = 2;  // per axis
   std::array<double, 3> velocity{};
   std::optional<std::size_t> liquid;  // index into Scene::liquids: a saturated body

@@ -7,11 +7,17 @@
 
 #include "suffuse/diagnostics.hpp"
 #include "suffuse/gradation.hpp"
+#include "common/unit_table.hpp"
 #include "scene/validation.hpp"
 
 namespace suffuse {
 
 namespace fs = std::filesystem;
+
+using detail::parse_number;
+using detail::split_cells;
+using detail::trim;
+using detail::unit_of;
 
 namespace {
 
@@ -38,27 +44,9 @@ std::string read_text(const fs::path& file) {
 
 std::string quote(const std::string& s) { return std::string(1, '"').append(s).append(1, '"'); }
 
-std::string trim(const std::string& s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return s.substr(a, b - a);
-}
-
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
-}
-
-// The unit of a header cell: "size [mm]", "size (mm)" or "size_mm".
-std::string unit_of(const std::string& cell) {
-  const char close = cell.empty() ? 0 : cell.back();
-  if (close == ']' || close == ')') {
-    const std::size_t open = cell.rfind(close == ']' ? '[' : '(');
-    if (open != std::string::npos) return trim(cell.substr(open + 1, cell.size() - open - 2));
-  }
-  const std::size_t underscore = cell.rfind('_');
-  return underscore == std::string::npos ? "" : cell.substr(underscore + 1);
 }
 
 // Millimetres per unit of size, or 0 for a unit that is not one.
@@ -70,23 +58,6 @@ double millimetres_per(const std::string& unit) {
 }
 
 constexpr const char* size_units = "mm, um or m";
-
-bool parse_number(const std::string& cell, double& value) {
-  const std::string t = trim(cell);
-  if (t.empty()) return false;
-  std::istringstream in(t);
-  in >> value;
-  return in && in.peek() == std::char_traits<char>::eof();
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) cells.push_back(trim(cell));
-  if (!line.empty() && line.back() == ',') cells.push_back("");
-  return cells;
-}
 
 Gradation read_csv(const fs::path& file) {
   const std::string name = file.string();
@@ -102,7 +73,7 @@ Gradation read_csv(const fs::path& file) {
     const std::string t = trim(line);
     if (t.empty() || t.front() == '#') continue;  // blank lines and comments
     const std::string where = name + ":" + std::to_string(number);
-    const std::vector<std::string> cells = split(t);
+    const std::vector<std::string> cells = split_cells(t);
     if (scale == 0) {
       const std::string expected = "a header \"size [mm], passing [%]\" (size in " + std::string(size_units) +
                                    ", percent passing in %)";

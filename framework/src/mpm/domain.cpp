@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "geometry/body_shape.hpp"
 #include "mpm/solid_kernels.hpp"
 #include "suffuse/error.hpp"
 
@@ -112,20 +113,48 @@ void Domain::gather_nodal(const Interpolation& s, std::vector<double>& values, i
     }
 }
 
-BodyPoints Domain::create_body(const BodySpec& body, double solid_density) {
+BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::span<const BodySpec> earlier) {
   const int D = dim();
+  // The lattice: a box's own (count points per axis filling it evenly); a
+  // polygon's the grid's (points_per_cell per cell), from the cell that
+  // holds its lower corner to the one that holds its upper.
   std::array<std::size_t, 3> count{1, 1, 1};
-  std::array<double, 3> spacing{1, 1, 1};
-  std::size_t total = 1;
+  std::array<double, 3> spacing{1, 1, 1}, start{};
   for (int a = 0; a < D; ++a) {
+    if (body.polygon) {
+      const double h = grid.cell_size()[a], o = grid.origin()[a];
+      spacing[a] = h / body.points_per_cell;
+      const double first = std::floor((body.min[a] - o) / h) * body.points_per_cell;
+      const double last = std::ceil((body.max[a] - o) / h) * body.points_per_cell;
+      start[a] = o + (first + 0.5) * spacing[a];
+      count[a] = static_cast<std::size_t>(std::max(0.0, last - first));
+      continue;
+    }
     const double extent = body.max[a] - body.min[a];
     count[a] = std::max<std::size_t>(
         1, static_cast<std::size_t>(std::llround(extent / grid.cell_size()[a] * body.points_per_cell)));
     spacing[a] = extent / static_cast<double>(count[a]);
-    total *= count[a];
+    start[a] = body.min[a] + 0.5 * spacing[a];
   }
   double volume = 1;
   for (int a = 0; a < D; ++a) volume *= spacing[a];  // per unit thickness in 2D
+  // The lattice's points in the shape, but where an earlier body is: a later
+  // body fills only what earlier ones left (docs/geometry.md).
+  std::vector<std::array<double, 3>> kept;
+  for (std::size_t k = 0; k < count[2]; ++k)
+    for (std::size_t j = 0; j < count[1]; ++j)
+      for (std::size_t i = 0; i < count[0]; ++i) {
+        const std::size_t idx[3] = {i, j, k};
+        std::array<double, 3> xp{};
+        for (int a = 0; a < D; ++a)
+          xp[a] = body.polygon ? start[a] + static_cast<double>(idx[a]) * spacing[a]
+                               : body.min[a] + (static_cast<double>(idx[a]) + 0.5) * spacing[a];
+        if (body.polygon && !shape_contains(body, xp.data(), D)) continue;
+        bool taken = false;
+        for (const BodySpec& other : earlier) taken = taken || shape_contains(other, xp.data(), D);
+        if (!taken) kept.push_back(xp);
+      }
+  const std::size_t total = kept.size();
   const std::size_t first = points.append(total);
   const auto& f = points.core();
   double* x = points.data(f.position);
@@ -135,21 +164,18 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density) {
   double* id = points.data(f.material_id);
   double* size = points.data(f.size);
   double* stress = points.data(f.stress);
-  std::size_t p = first;
-  for (std::size_t k = 0; k < count[2]; ++k)
-    for (std::size_t j = 0; j < count[1]; ++j)
-      for (std::size_t i = 0; i < count[0]; ++i, ++p) {
-        const std::size_t idx[3] = {i, j, k};
-        for (int a = 0; a < D; ++a) {
-          x[p * D + a] = body.min[a] + (static_cast<double>(idx[a]) + 0.5) * spacing[a];
-          v[p * D + a] = body.velocity[a];
-          size[p * D + a] = spacing[a];
-        }
-        for (int c = 0; c < 6; ++c) stress[p * 6 + c] = body.stress[c];
-        V[p] = volume;
-        m[p] = volume * solid_density * (body.liquid ? 1 - body.porosity : 1.0);
-        id[p] = static_cast<double>(body.material);
-      }
+  for (std::size_t q = 0; q < total; ++q) {
+    const std::size_t p = first + q;
+    for (int a = 0; a < D; ++a) {
+      x[p * D + a] = kept[q][a];
+      v[p * D + a] = body.velocity[a];
+      size[p * D + a] = spacing[a];
+    }
+    for (int c = 0; c < 6; ++c) stress[p * 6 + c] = body.stress[c];
+    V[p] = volume;
+    m[p] = volume * solid_density * (body.liquid ? 1 - body.porosity : 1.0);
+    id[p] = static_cast<double>(body.material);
+  }
   bodies.push_back({body.name, body.material, {first, first + total}, body.liquid.has_value()});
   return bodies.back();
 }

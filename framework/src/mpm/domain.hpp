@@ -58,9 +58,10 @@ class Domain {
 
   int dim() const { return grid.dim(); }
 
-  // Fills a body's box with points (position, size, velocity, volume, solid
-  // mass, initial stress, material id); returns their range.
-  BodyPoints create_body(const BodySpec& body, double solid_density);
+  // Fills a body's shape with points (position, size, velocity, volume,
+  // solid mass, initial stress, material id), but where the earlier bodies
+  // are; returns their range.
+  BodyPoints create_body(const BodySpec& body, double solid_density, std::span<const BodySpec> earlier);
 
   // A run on many processes: keeps this process's share of the points,
   // whole scatter chunks of the serial run's numbering (docs/parallel.md),

@@ -26,6 +26,7 @@ std::string to_string(ParamType type) {
     case ParamType::Vector: return "array of numbers";
     case ParamType::StringList: return "array of strings";
     case ParamType::Table: return "array of rows of numbers";
+    case ParamType::Tables: return "array of arrays of rows of numbers";
   }
   return "?";
 }
@@ -39,6 +40,11 @@ std::string to_string(const ParamValue& value) {
     std::string operator()(const std::vector<double>& v) const {
       std::string s = "[";
       for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + number_text(v[i]);
+      return s + "]";
+    }
+    std::string operator()(const std::vector<std::vector<double>>& v) const {
+      std::string s = "[";
+      for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + (*this)(v[i]);
       return s + "]";
     }
     std::string operator()(const std::vector<std::string>& v) const {
@@ -58,8 +64,9 @@ std::string Param::expectation(int dimension) const {
     text += "}";
     return text;
   }
-  if (type == ParamType::Table) {
+  if (type == ParamType::Table || type == ParamType::Tables) {
     text = "array of [" + std::string(length == 2 ? "number, number" : std::to_string(length) + " numbers") + "] rows";
+    if (type == ParamType::Tables) text = "array of arrays of [" + text.substr(10);
   } else if (type == ParamType::Vector) {
     int n = length > 0 ? length : dimension;
     text = n > 0 ? "array of " + std::to_string(n) + " numbers" : "array of numbers (one per dimension)";
@@ -118,6 +125,9 @@ const std::vector<double>& Parameters::vector(const std::string& name) const {
 const std::vector<std::string>& Parameters::string_list(const std::string& name) const {
   return std::get<std::vector<std::string>>(get(name));
 }
+const std::vector<std::vector<double>>& Parameters::tables(const std::string& name) const {
+  return std::get<std::vector<std::vector<double>>>(get(name));
+}
 std::optional<double> Parameters::maybe_number(const std::string& name) const {
   if (!has(name)) return std::nullopt;
   return number(name);
@@ -138,6 +148,7 @@ Parameters ParameterSchema::complete(std::map<std::string, ParamValue> values) c
         case ParamType::Vector: return std::holds_alternative<std::vector<double>>(value);
         case ParamType::StringList: return std::holds_alternative<std::vector<std::string>>(value);
         case ParamType::Table: return std::holds_alternative<std::vector<double>>(value);
+        case ParamType::Tables: return std::holds_alternative<std::vector<std::vector<double>>>(value);
       }
       return false;
     }(value);

@@ -186,7 +186,8 @@ void Simulation::create_bodies() {
   for (std::size_t i = 0; i < scene_.bodies.size(); ++i) {
     const BodySpec& body = scene_.bodies[i];
     const Phase& phase = materials_->phase(body.material);
-    const detail::BodyPoints b = domain_->create_body(body, phase.density());
+    const detail::BodyPoints b =
+        domain_->create_body(body, phase.density(), std::span(scene_.bodies).first(i));
     if (mixture_) mixture_->initialise(body, b);
     if (species_) species_->initialise(body, b);
     const double rho_w = body.liquid ? mixture_->liquid(*body.liquid).density() : 0.0;

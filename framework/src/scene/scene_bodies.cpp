@@ -1,4 +1,7 @@
-// Bodies: boxes of material points, dry or saturated, with their initial state.
+// Bodies: boxes and polygons of material points, dry or saturated, with
+// their initial state.
+#include "geometry/polygon.hpp"
+#include "common/unit_table.hpp"
 #include "scene/scene_reader.hpp"
 
 namespace suffuse::detail {
@@ -9,8 +12,22 @@ ParameterSchema body_schema() {
   ParameterSchema s;
   s.string("name").fallback(std::string()).doc("Name of the body, for messages");
   s.string("material").doc("Name of a material defined under /materials");
-  s.vector("min").with_unit("m").doc("Lower corner of the box filled with material points");
-  s.vector("max").with_unit("m").doc("Upper corner of the box filled with material points");
+  s.vector("min").with_unit("m").may_be_absent().doc(
+      "Lower corner of the box filled with material points (a box body); in 3D with a polygon, only the "
+      "component along extrusion_axis counts: where the extrusion starts");
+  s.vector("max").with_unit("m").may_be_absent().doc(
+      "Upper corner of the box filled with material points; in 3D with a polygon, where the extrusion ends");
+  s.table("polygon", 2).with_unit("m").may_be_absent().doc(
+      "A polygon body instead of a box: its outer ring, vertices in order (either way round, the last joined to "
+      "the first). 2D: x, y; 3D: the two axes but extrusion_axis, in increasing order (docs/geometry.md)");
+  s.string("polygon_file").may_be_absent().doc(
+      "The polygon from a CSV file instead, relative to the scene: a header with units (\"x [m], y [m]\"; m, cm "
+      "or mm) and a row per vertex; an optional third column \"ring\" numbers the rings: 0 the outer, 1, 2, ... "
+      "the holes");
+  s.tables("holes", 2).with_unit("m").may_be_absent().doc(
+      "Holes of an inline polygon: rings of vertices inside its outer ring, apart from each other");
+  s.choice("extrusion_axis", {"x", "y", "z"}).may_be_absent().doc(
+      "3D polygon bodies: the axis the polygon is extruded along, between min and max of that axis");
   s.integer("points_per_cell").with_unit("-").at_least(1).at_most(8).fallback(2LL).doc(
       "Material points per cell along each axis");
   s.vector("velocity").with_unit("m/s").fallback(std::vector<double>{}).doc("Initial velocity (default 0)");
@@ -69,6 +86,130 @@ void read_fines(SceneReader& r, const Parameters& b, const std::string& ptr, Bod
     r.error(ptr + "/ultimate_fines_content", "ultimate fines content above the initial one",
             "at most fines_content = " + format(body.fines_content), format(body.ultimate_fines_content),
             "core (body)");
+}
+
+// A polygon's rings from the scene (inline) or its file; problems reported
+// at the key that gives them.
+std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const std::string& ptr, std::string& source) {
+  Polygon polygon;
+  auto ring_of = [](const std::vector<double>& flat) {
+    Polygon::Ring ring;
+    for (std::size_t k = 0; k + 1 < flat.size(); k += 2) ring.push_back({flat[k], flat[k + 1]});
+    return ring;
+  };
+  std::string at = ptr + "/polygon";
+  if (b.has("polygon_file")) {
+    at = ptr + "/polygon_file";
+    std::filesystem::path file = b.string("polygon_file");
+    if (file.is_relative()) file = r.base_dir / file;
+    source = file.string();
+    try {
+      const UnitTable t = read_unit_table(
+          file, {{"x", Quantity::length}, {"y", Quantity::length}, {"ring", Quantity::count, true}}, 64 << 20);
+      for (std::size_t k = 0; k < t.rows.size(); ++k) {
+        const double ring = t.columns > 2 ? t.rows[k][2] : 0;
+        const auto rings = polygon.holes.size() + 1;
+        const std::string where = file.string() + ":" + std::to_string(t.lines[k]);
+        if (ring < 0 || ring > static_cast<double>(rings) || (ring + 1 < static_cast<double>(rings)))
+          throw Error(where + ": rings out of order: expected ring " + std::to_string(rings - 1) + " or " +
+                      std::to_string(rings) + " (0 the outer ring, then the holes, each ring's rows together), found " +
+                      format(ring));
+        if (ring == static_cast<double>(rings)) polygon.holes.emplace_back();
+        (ring == 0 ? polygon.outer : polygon.holes.back()).push_back({t.rows[k][0], t.rows[k][1]});
+      }
+    } catch (const Error& e) {
+      r.error(at, "unreadable polygon file", "a CSV file as docs/geometry.md describes", e.what(), "core (body)");
+      return std::nullopt;
+    }
+  } else {
+    source = at;
+    polygon.outer = ring_of(b.vector("polygon"));
+    if (b.has("holes"))
+      for (const std::vector<double>& hole : b.tables("holes")) polygon.holes.push_back(ring_of(hole));
+  }
+  if (auto p = check_polygon(polygon)) {
+    std::string where = p->ring < 0 ? at : b.has("polygon_file") ? at : ptr + "/holes/" + std::to_string(p->ring);
+    if (p->vertex >= 0 && !b.has("polygon_file")) where += "/" + std::to_string(p->vertex);
+    r.error(where, p->problem, p->expected, p->found, "core (body)");
+    return std::nullopt;
+  }
+  return polygon;
+}
+
+// The body's shape: a box (min, max) or a polygon; either within the grid.
+void read_shape(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
+  const bool polygon = b.has("polygon") || b.has("polygon_file");
+  if (b.has("polygon") && b.has("polygon_file")) {
+    r.error(ptr + "/polygon_file", "two polygons", "either \"polygon\" or \"polygon_file\"", "both", "core (body)");
+    return;
+  }
+  if (b.has("holes") && !b.has("polygon")) {
+    r.error(ptr + "/holes", "holes without an inline polygon",
+            "holes with \"polygon\" (a polygon file gives its holes as rings)", "holes", "core (body)");
+    return;
+  }
+  const bool extruded = polygon && r.dim == 3;
+  if (!polygon && !(b.has("min") && b.has("max"))) {
+    r.error(ptr + (b.has("min") ? "/max" : "/min"), "missing shape",
+            "a box (min and max) or a polygon (polygon or polygon_file)", "nothing", "core (body)");
+    return;
+  }
+  if (polygon && r.dim == 2 && (b.has("min") || b.has("max"))) {
+    r.error(ptr + (b.has("min") ? "/min" : "/max"), "a box and a polygon", "either min and max or a polygon",
+            "both", "core (body)");
+    return;
+  }
+  if (extruded && !(b.has("min") && b.has("max") && b.has("extrusion_axis"))) {
+    r.error(ptr + (b.has("extrusion_axis") ? (b.has("min") ? "/max" : "/min") : "/extrusion_axis"),
+            "a 3D polygon body without its extrusion",
+            "extrusion_axis and min and max (the extrusion's ends along that axis)", "nothing", "core (body)");
+    return;
+  }
+  if (!extruded && b.has("extrusion_axis")) {
+    r.error(ptr + "/extrusion_axis", "extrusion without a 3D polygon", "extrusion_axis with a polygon in 3D",
+            b.string("extrusion_axis"), "core (body)");
+    return;
+  }
+  if (b.has("min")) body.min = to_array(b.vector("min"));
+  if (b.has("max")) body.max = to_array(b.vector("max"));
+  std::vector<int> box_axes;  // the axes whose extent min and max give
+  for (int a = 0; a < r.dim; ++a) box_axes.push_back(a);
+  if (polygon) {
+    const std::optional<Polygon> read = read_polygon(r, b, ptr, body.shape_source);
+    if (!read) return;
+    body.polygon = read;
+    body.extrusion_axis = extruded ? b.string("extrusion_axis")[0] - 'x' : 2;
+    box_axes = extruded ? std::vector<int>{body.extrusion_axis} : std::vector<int>{};
+    const std::array<double, 4> bounds = polygon_bounds(*read);
+    int plane = 0;
+    for (int a = 0; a < r.dim; ++a) {
+      if (a == body.extrusion_axis) continue;
+      body.min[a] = bounds[plane];
+      body.max[a] = bounds[plane + 2];
+      ++plane;
+    }
+  }
+  for (int a : box_axes)
+    if (!(body.min[a] < body.max[a]))
+      r.error(ptr + "/max/" + std::to_string(a), "empty box",
+              "a value above min[" + std::to_string(a) + "] = " + format(body.min[a]), format(body.max[a]),
+              "core (body)");
+  if (!r.grid_ok) return;
+  for (int a = 0; a < r.dim; ++a) {
+    const double lo = scene.grid_origin[a];
+    const double hi = lo + scene.grid_cell_size[a] * scene.grid_cells[a];
+    const double tol = 1e-9 * scene.grid_cell_size[a];  // round-off in origin + h * cells
+    if (body.min[a] >= lo - tol && body.max[a] <= hi + tol) continue;
+    const bool below = body.min[a] < lo - tol;
+    const bool from_box = std::find(box_axes.begin(), box_axes.end(), a) != box_axes.end();
+    r.error(from_box ? ptr + (below ? "/min/" : "/max/") + std::to_string(a)
+                     : ptr + (b.has("polygon_file") ? "/polygon_file" : "/polygon"),
+            "body outside the grid",
+            (from_box ? "a box within the grid [" : "a polygon within the grid along " + std::string(1, char('x' + a)) + " [") +
+                format(lo) + ", " + format(hi) + "]",
+            format(below ? body.min[a] : body.max[a]), "core (body)");
+    return;
+  }
 }
 
 void read_bodies(SceneReader& r, Scene& scene) {
@@ -145,24 +286,7 @@ void read_bodies(SceneReader& r, Scene& scene) {
         r.error(ptr + "/pore_pressure", "pore pressure of a dry body", "0 without \"liquid\"",
                 format(body.pore_pressure), "core (body)");
     }
-    if (b.has("min") && b.has("max")) {
-      body.min = to_array(b.vector("min"));
-      body.max = to_array(b.vector("max"));
-      for (int a = 0; a < r.dim; ++a) {
-        if (!(body.min[a] < body.max[a]))
-          r.error(ptr + "/max/" + std::to_string(a), "empty box",
-                  "a value above min[" + std::to_string(a) + "] = " + format(body.min[a]), format(body.max[a]),
-                  "core (body)");
-        if (!r.grid_ok) continue;
-        const double lo = scene.grid_origin[a];
-        const double hi = lo + scene.grid_cell_size[a] * scene.grid_cells[a];
-        const double tol = 1e-9 * scene.grid_cell_size[a];  // round-off in origin + h * cells
-        if (body.min[a] < lo - tol || body.max[a] > hi + tol)
-          r.error(ptr + (body.min[a] < lo - tol ? "/min/" : "/max/") + std::to_string(a), "body outside the grid",
-                  "a box within the grid [" + format(lo) + ", " + format(hi) + "]",
-                  format(body.min[a] < lo - tol ? body.min[a] : body.max[a]), "core (body)");
-      }
-    }
+    read_shape(r, scene, b, ptr, body);
     scene.bodies.push_back(body);
   }
 }
@@ -170,7 +294,8 @@ void read_bodies(SceneReader& r, Scene& scene) {
 }  // namespace
 
 SceneSection bodies_section() {
-  return {"bodies", "body", "A box of material points of one material (an entry of /bodies)", body_schema, read_bodies};
+  return {"bodies", "body", "A box or polygon of material points of one material (an entry of /bodies)", body_schema,
+          read_bodies};
 }
 
 }  // namespace suffuse::detail

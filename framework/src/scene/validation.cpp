@@ -43,6 +43,19 @@ bool in_range(const Param& p, double v) {
 }
 
 // Returns the value, or nothing after appending a diagnostic.
+// A table's rows of `columns` numbers, row after row into xs; the problem if
+// a row is not an array of that many numbers, else null.
+const char* rows_of(const json& table, int columns, std::vector<double>& xs) {
+  for (const auto& row : table) {
+    if (!row.is_array() || static_cast<int>(row.size()) != columns) return "wrong shape of a row";
+    for (const auto& e : row) {
+      if (!e.is_number()) return "wrong type of component";
+      xs.push_back(e.get<double>());
+    }
+  }
+  return nullptr;
+}
+
 std::optional<ParamValue> convert(const json& v, const Param& p, const std::string& ptr,
                                   const std::string& by, int dim, std::vector<Diagnostic>& out) {
   auto fail = [&](const std::string& problem) {
@@ -90,14 +103,17 @@ std::optional<ParamValue> convert(const json& v, const Param& p, const std::stri
     case ParamType::Table: {
       if (!v.is_array()) return fail("wrong type");
       std::vector<double> xs;
-      for (const auto& row : v) {
-        if (!row.is_array() || static_cast<int>(row.size()) != p.length) return fail("wrong shape of a row");
-        for (const auto& e : row) {
-          if (!e.is_number()) return fail("wrong type of component");
-          xs.push_back(e.get<double>());
-        }
-      }
+      if (const char* problem = rows_of(v, p.length, xs)) return fail(problem);
       return ParamValue{xs};
+    }
+    case ParamType::Tables: {
+      if (!v.is_array()) return fail("wrong type");
+      std::vector<std::vector<double>> tables;
+      for (const auto& table : v) {
+        if (!table.is_array()) return fail("wrong type of a table");
+        if (const char* problem = rows_of(table, p.length, tables.emplace_back())) return fail(problem);
+      }
+      return ParamValue{tables};
     }
     case ParamType::StringList: {
       if (!v.is_array()) return fail("wrong type");

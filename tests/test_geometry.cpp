@@ -1,0 +1,216 @@
+// Bodies of any shape (docs/geometry.md): polygons seeded on the grid's
+// lattice fill the exact area as the cells shrink, a later body fills only
+// what earlier ones left, a polygon file reads as the inline polygon, and the
+// geostatic stress under a sloping surface is the weight of the soil above.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <suffuse/error.hpp>
+#include <suffuse/plugin_loader.hpp>
+#include <suffuse/scene.hpp>
+#include <suffuse/simulation.hpp>
+
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+// A dry 2D scene on a grid of `cells` x `cells` cells over [0, 1]^2 (or 3D
+// over [0, 1]^3), one body per entry of `bodies`.
+json scene_with(int dim, int cells, const json& bodies) {
+  const double h = 1.0 / cells;
+  json j = {{"dimension", dim},
+            {"grid", {{"cell_size", std::vector<double>(dim, h)}, {"cells", std::vector<int>(dim, cells)}}},
+            {"shape_function", {{"type", "shape/linear"}}},
+            {"materials",
+             {{"soil", {{"type", "phase/linear_elastic"}, {"density", 2000.0}, {"youngs_modulus", 1e7}}},
+              {"clay", {{"type", "phase/linear_elastic"}, {"density", 1800.0}, {"youngs_modulus", 1e7}}}}},
+            {"bodies", bodies},
+            {"time", {{"end", 0.01}}},
+            {"outputs", json::array()}};
+  return j;
+}
+
+struct Made {
+  double volume = 0;
+  std::vector<double> body_volume;
+  std::size_t points = 0;
+};
+
+// The points a scene's bodies make: their volume, in all and by body.
+Made made(const json& j) {
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry, 1);
+  const suffuse::PointSet& pts = sim.points();
+  const double* V = pts.data(pts.core().volume);
+  const double* id = pts.data(pts.core().material_id);
+  Made m;
+  m.points = pts.size();
+  m.body_volume.assign(2, 0.0);
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    m.volume += V[p];
+    m.body_volume[static_cast<std::size_t>(id[p])] += V[p];
+  }
+  return m;
+}
+
+// The area of a ring by the shoelace formula.
+double ring_area(const json& ring) {
+  double twice = 0;
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const json& a = ring[i];
+    const json& b = ring[(i + 1) % ring.size()];
+    twice += a[0].get<double>() * b[1].get<double>() - b[0].get<double>() * a[1].get<double>();
+  }
+  return std::abs(0.5 * twice);
+}
+
+// Vertices off the lattice's lines (vertices on them, with edges of slopes
+// the lattice matches, fill the area exactly at every cell size).
+const json triangle = {{0.1234, 0.1011}, {0.8877, 0.2319}, {0.3141, 0.8562}};
+// A levee's section with a square hole.
+const json trapezoid = {{0.1123, 0.2071}, {0.8957, 0.2071}, {0.6436, 0.6983}, {0.3512, 0.6983}};
+const json square_hole = {{{0.4417, 0.3529}, {0.5531, 0.3529}, {0.5531, 0.4643}, {0.4417, 0.4643}}};
+const double triangle_area = ring_area(triangle);
+const double trapezoid_area = ring_area(trapezoid) - ring_area(square_hole[0]);
+
+// Errors at h, h/2, h/4: within 1% at the finest, and at least first order
+// (2.5 times smaller over the two halvings, where first order gives 4).
+void expect_converges(const std::vector<double>& errors, const char* what) {
+  for (std::size_t k = 0; k < errors.size(); ++k)
+    ::testing::Test::RecordProperty(std::string(what) + "_error_" + std::to_string(k), std::to_string(errors[k]));
+  EXPECT_LT(errors.back(), 0.01) << what;
+  EXPECT_LT(2.5 * errors.back(), errors.front()) << what;
+}
+
+}  // namespace
+
+// A point is made where its centre, on the lattice of points_per_cell points
+// per cell and axis, lies inside: the boundary cuts the points of a strip one
+// point wide, each in or out by its centre, so the error is at most the
+// perimeter times half a point's spacing: first order. Edges across the
+// lattice's lines mostly cancel (the triangle: 0.39%, 0.17%, 0.11% at 20,
+// 40, 80 cells); edges along them do not (the trapezoid's base and crest:
+// 5.2%, 3.0%, 1.5% at 10, 20, 40 cells).
+TEST(Geometry, PolygonVolumesConvergeToTheExactArea) {
+  std::vector<double> tri, trap;
+  for (int cells : {20, 40, 80}) {
+    const Made t = made(scene_with(2, cells, json::array({{{"material", "soil"}, {"polygon", triangle}}})));
+    tri.push_back(std::abs(t.volume / triangle_area - 1));
+    const Made z = made(scene_with(
+        2, cells, json::array({{{"material", "soil"}, {"polygon", trapezoid}, {"holes", square_hole}}})));
+    trap.push_back(std::abs(z.volume / trapezoid_area - 1));
+    // Bound: the perimeter (2.40 m) times half a point's spacing (h / 4), over the area.
+    EXPECT_LT(tri.back(), 2.40 * 0.25 / cells / triangle_area) << cells << " cells";
+  }
+  expect_converges(tri, "triangle");
+  expect_converges(trap, "trapezoid_with_hole");
+}
+
+// The trapezoid extruded along y in 3D: its area times the extrusion's length.
+TEST(Geometry, ExtrudedPolygonVolumeConverges) {
+  std::vector<double> errors;
+  for (int cells : {20, 40, 80}) {
+    const Made m = made(scene_with(3, cells,
+                                   json::array({{{"material", "soil"},
+                                                 {"polygon", trapezoid},
+                                                 {"holes", square_hole},
+                                                 {"extrusion_axis", "y"},
+                                                 {"min", {0.0, 0.25, 0.0}},
+                                                 {"max", {0.0, 0.375, 0.0}}}})));
+    errors.push_back(std::abs(m.volume / (trapezoid_area * 0.125) - 1));
+  }
+  expect_converges(errors, "extruded_trapezoid");
+}
+
+// A levee on its foundation, the foundation drawn as a box under the whole
+// levee and the levee as a polygon reaching into it: the levee fills only
+// what the foundation left, so the two volumes add up to the union's.
+TEST(Geometry, ALaterBodyFillsOnlyWhatEarlierOnesLeft) {
+  const json foundation = {{"material", "soil"}, {"min", {0.0, 0.0}}, {"max", {1.0, 0.4}}};
+  const json levee = {{"material", "clay"}, {"polygon", {{0.1, 0.2}, {0.9, 0.2}, {0.65, 0.7}, {0.35, 0.7}}}};
+  const Made both = made(scene_with(2, 40, json::array({foundation, levee})));
+  constexpr std::size_t clay = 0, soil = 1;  // materials by name
+  EXPECT_NEAR(both.body_volume[soil], 0.4, 1e-12) << "the foundation keeps every point";
+  // The levee above y = 0.4: its sides x = 0.1 + (y - 0.2) / 2 and 0.9 - (y - 0.2) / 2, 0.6 apart at 0.4 and
+  // 0.3 at its crest: (0.6 + 0.3) / 2 * 0.3 = 0.135 (vertices and slopes on the lattice: exact).
+  EXPECT_NEAR(both.body_volume[clay], 0.135, 1e-12);
+  const Made alone = made(scene_with(2, 40, json::array({levee})));
+  EXPECT_NEAR(alone.body_volume[clay], 0.275, 1e-12) << "alone it fills its whole area";
+}
+
+// The same polygon from a CSV file, in centimetres, its hole as ring 1.
+TEST(Geometry, PolygonFileReadsAsTheInlinePolygon) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_geometry_file";
+  fs::create_directories(dir);
+  std::ofstream(dir / "levee.csv") << "# a trapezoid with a square hole\n"
+                                      "x [cm], y [cm], ring\n11.23, 20.71, 0\n89.57, 20.71, 0\n64.36, 69.83, 0\n"
+                                      "35.12, 69.83, 0\n44.17, 35.29, 1\n55.31, 35.29, 1\n55.31, 46.43, 1\n"
+                                      "44.17, 46.43, 1\n";
+  json from_file = scene_with(2, 20, json::array({{{"material", "soil"}, {"polygon_file", (dir / "levee.csv").string()}}}));
+  const json inline_polygon =
+      scene_with(2, 20, json::array({{{"material", "soil"}, {"polygon", trapezoid}, {"holes", square_hole}}}));
+  const Made a = made(from_file), b = made(inline_polygon);
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_NEAR(a.volume, b.volume, 1e-12);
+}
+
+const json lattice_trapezoid = {{0.1, 0.2}, {0.9, 0.2}, {0.65, 0.7}, {0.35, 0.7}};
+
+// A clay levee (unit weight 1800 g) on a foundation box (2000 g), both with
+// k0 = 0.5: at every point the vertical stress is the weight of the column
+// above it, up to the levee's sloping surface, to round-off.
+TEST(Geometry, GeostaticStressUnderASlopingSurfaceIsTheWeightAbove) {
+  json j = scene_with(2, 40, json::array({{{"material", "soil"}, {"min", {0.0, 0.0}}, {"max", {1.0, 0.2}}, {"k0", 0.5}},
+                                          {{"material", "clay"}, {"polygon", lattice_trapezoid}, {"k0", 0.5}}}));
+  j["gravity"] = {0.0, -10.0};
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry, 1);
+  const suffuse::PointSet& pts = sim.points();
+  const double* x = pts.data(pts.core().position);
+  const double* s = pts.data(pts.core().stress);
+  // The trapezoid's surface: its sides from (0.1, 0.2) to (0.35, 0.7) and (0.9, 0.2) to (0.65, 0.7), its crest at 0.7.
+  auto surface = [](double u) {
+    if (u < 0.1 || u > 0.9) return 0.2;
+    return std::min({0.7, 0.2 + 2 * (u - 0.1), 0.2 + 2 * (0.9 - u)});
+  };
+  std::size_t checked_under_slope = 0;
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    const double u = x[2 * p], y = x[2 * p + 1];
+    const double above_foundation = surface(u) - 0.2;
+    const double expected =
+        y < 0.2 ? 2000 * 10 * (0.2 - y) + 1800 * 10 * above_foundation : 1800 * 10 * (surface(u) - y);
+    EXPECT_NEAR(s[6 * p + 1], -expected, 1e-9 * 2000 * 10) << "point " << p << " at (" << u << ", " << y << ")";
+    EXPECT_NEAR(s[6 * p + 0], -0.5 * expected, 1e-9 * 2000 * 10);
+    checked_under_slope += (u > 0.1 && u < 0.35) || (u > 0.65 && u < 0.9);
+  }
+  EXPECT_GT(checked_under_slope, 100u);
+}
+
+// A polygon file that cannot be read is reported at the key that names it,
+// with the file's line: units missing, rings out of order.
+TEST(Geometry, BadPolygonFilesAreNamedWithTheirLine) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_geometry_bad_file";
+  fs::create_directories(dir);
+  std::ofstream(dir / "no_units.csv") << "x, y\n0.1, 0.1\n0.9, 0.1\n0.5, 0.8\n";
+  std::ofstream(dir / "rings.csv") << "x [m], y [m], ring\n0.1, 0.1, 0\n0.9, 0.1, 0\n0.5, 0.8, 0\n0.4, 0.2, 2\n";
+  for (const auto& [file, says] : {std::pair<const char*, const char*>{"no_units.csv", "no_units.csv:1: unit missing or unknown"},
+                                   {"rings.csv", "rings.csv:5: rings out of order"}}) {
+    const json j = scene_with(2, 10, json::array({{{"material", "soil"}, {"polygon_file", (dir / file).string()}}}));
+    suffuse::Registry registry;
+    try {
+      suffuse::test::scene_from(j, registry);
+      ADD_FAILURE() << file << " accepted";
+    } catch (const suffuse::SceneError& e) {
+      ASSERT_EQ(e.diagnostics().size(), 1u) << file;
+      EXPECT_EQ(e.diagnostics()[0].pointer, "/bodies/0/polygon_file");
+      EXPECT_NE(e.diagnostics()[0].found.find(says), std::string::npos) << e.diagnostics()[0].found;
+    }
+  }
+}
