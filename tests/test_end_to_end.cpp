@@ -316,7 +316,9 @@ TEST(EndToEnd, EveryExampleSceneRuns) {
     }
     j["outputs"] = nlohmann::json::array();
     suffuse::Registry registry;
-    const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+    suffuse::PluginLoader loader(registry);  // files a scene names are beside it (share/geometry/...)
+    const suffuse::Scene scene =
+        suffuse::parse_scene(j.dump(), entry.path().string(), entry.path().parent_path(), registry, loader);
     suffuse::Simulation sim(scene, registry);
     for (int k = 0; k < 3; ++k) sim.step();
     EXPECT_GT(sim.points().size(), 0u) << entry.path();
