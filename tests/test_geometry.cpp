@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <suffuse/error.hpp>
 #include <suffuse/plugin_loader.hpp>
@@ -213,4 +214,70 @@ TEST(Geometry, BadPolygonFilesAreNamedWithTheirLine) {
       EXPECT_NE(e.diagnostics()[0].found.find(says), std::string::npos) << e.diagnostics()[0].found;
     }
   }
+}
+
+namespace {
+
+// Every point's vertical stress against `expected(u, y)` (k0 = 0.5, g = 10).
+void expect_vertical_stress(const json& j, const std::function<double(double, double)>& expected, const char* what) {
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry, 1);
+  const suffuse::PointSet& pts = sim.points();
+  const double* x = pts.data(pts.core().position);
+  const double* s = pts.data(pts.core().stress);
+  std::size_t wrong = 0;
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    const double u = x[2 * p], y = x[2 * p + 1], e = expected(u, y);
+    if (std::abs(s[6 * p + 1] + e) > 1e-9 * 2e4 && wrong++ < 5)
+      ADD_FAILURE() << what << ": point at (" << u << ", " << y << "): " << -s[6 * p + 1] << " Pa, expected " << e;
+  }
+  EXPECT_EQ(wrong, 0u) << what;
+}
+
+json with_gravity(json j) {
+  j["gravity"] = {0.0, -10.0};
+  return j;
+}
+
+}  // namespace
+
+// Bodies that overlap, drawn as simple shapes: a clay lens drawn first and
+// the sand box around it, and a fill with a culvert in its hole. Up the
+// vertical through each point, each height weighs as the body that holds it
+// (the first drawn), through lenses and culverts to the surface.
+TEST(Geometry, GeostaticStressThroughOverlappingBodies) {
+  const json lens = {{"material", "clay"}, {"polygon", {{0.3, 0.3}, {0.7, 0.3}, {0.7, 0.5}, {0.3, 0.5}}}, {"k0", 0.5}};
+  const json sand = {{"material", "soil"}, {"min", {0.0, 0.0}}, {"max", {1.0, 0.8}}, {"k0", 0.5}};
+  expect_vertical_stress(with_gravity(scene_with(2, 40, json::array({lens, sand}))), [](double u, double y) {
+    if (u < 0.3 || u > 0.7 || y > 0.5) return 2e4 * (0.8 - y);
+    if (y > 0.3) return 1.8e4 * (0.5 - y) + 2e4 * 0.3;
+    return 2e4 * (0.3 - y) + 1.8e4 * 0.2 + 2e4 * 0.3;
+  }, "a lens in sand");
+  const json fill = {{"material", "soil"},
+                     {"polygon", {{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.6}, {0.0, 0.6}}},
+                     {"holes", {{{0.4, 0.2}, {0.6, 0.2}, {0.6, 0.3}, {0.4, 0.3}}}},
+                     {"k0", 0.5}};
+  const json culvert = {{"material", "clay"}, {"min", {0.4, 0.2}}, {"max", {0.6, 0.3}}, {"k0", 0.5}};
+  expect_vertical_stress(with_gravity(scene_with(2, 40, json::array({fill, culvert}))), [](double u, double y) {
+    if (u < 0.4 || u > 0.6 || y > 0.3) return 2e4 * (0.6 - y);
+    if (y > 0.2) return 1.8e4 * (0.3 - y) + 2e4 * 0.3;
+    return 2e4 * (0.2 - y) + 1.8e4 * 0.1 + 2e4 * 0.3;
+  }, "a culvert in a fill");
+}
+
+// A slope at 45 degrees through points of the lattice, under an overhang of
+// the same body: a point on the slope is on the surface (no weight above it,
+// not the overhang's), a point below it carries the soil up to the slope.
+TEST(Geometry, GeostaticStressOfPointsOnASlope) {
+  const json body = {{"material", "soil"},
+                     {"polygon", {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}, {0.0, 0.875}, {0.75, 0.875}, {0.75, 0.75}}},
+                     {"k0", 0.5}};
+  std::size_t on_slope = 0;
+  expect_vertical_stress(with_gravity(scene_with(2, 40, json::array({body}))), [&](double u, double y) {
+    if (u > 0.75 || y > 0.875) return 2e4 * (1.0 - y);
+    on_slope += u == y;
+    return 2e4 * (u - y);
+  }, "a slope under an overhang");
+  EXPECT_GT(on_slope, 10u) << "points of the lattice on the slope";
 }

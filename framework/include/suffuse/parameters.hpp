@@ -11,13 +11,17 @@
 #include <variant>
 #include <vector>
 
+#include "suffuse/time_function.hpp"
+
 namespace suffuse {
 
-enum class ParamType { Number, Integer, Boolean, String, Choice, Vector, StringList, Table, Tables };
+enum class ParamType { Number, Integer, Boolean, String, Choice, Vector, StringList, Table, Tables, TimeSeries };
 
 // A parameter value after validation.
 // A Table is rows of numbers, each row `length` long, stored row after row;
-// Tables are any number of such tables (the holes of a polygon).
+// Tables are any number of such tables (the holes of a polygon). A
+// TimeSeries is stored as a table of (time [s], value) rows, whatever the
+// scene gave (a number, a table or a CSV file).
 using ParamValue = std::variant<double, long long, bool, std::string, std::vector<double>, std::vector<std::string>,
                                 std::vector<std::vector<double>>>;
 
@@ -72,6 +76,11 @@ class ParameterSchema {
     p.length = columns;
     return p;
   }
+  // A value in time: a number, a table [[time, value], ...] or a CSV file
+  // with units beside the scene (docs/boundaries.md); with_unit gives the
+  // value's unit, at_least and the like bound every value. Read with
+  // Parameters::time_series.
+  Param& time_series(std::string name) { return add(std::move(name), ParamType::TimeSeries); }
   Param& choice(std::string name, std::vector<std::string> choices) {
     Param& p = add(std::move(name), ParamType::Choice);
     p.choices = std::move(choices);
@@ -106,6 +115,7 @@ class Parameters {
   const std::vector<double>& vector(const std::string& name) const;
   const std::vector<std::string>& string_list(const std::string& name) const;
   const std::vector<std::vector<double>>& tables(const std::string& name) const;
+  TimeFunction time_series(const std::string& name) const;
   // Optional parameters without default.
   std::optional<double> maybe_number(const std::string& name) const;
 

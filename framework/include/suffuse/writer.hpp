@@ -86,7 +86,7 @@ class Writer {
   // point numbers between frames (a followed point) takes the new ones.
   virtual void points_renumbered(std::span<const std::size_t> new_number) { (void)new_number; }
   // What the writer must find again in a restarted run that its files do
-  // not hold (a followed point's number, say), as text; written into every
+  // not hold (a followed point's number, say), as UTF-8 text; written into every
   // checkpoint and handed back in ResumePoint::state.
   virtual std::string saved_state() const { return {}; }
   // Whether write() reads OutputFrame::grid_fields (the core projects them

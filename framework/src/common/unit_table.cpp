@@ -26,6 +26,7 @@ std::string header_of(const std::vector<UnitColumn>& columns) {
     h += (h.empty() ? "" : ", ") + c.name;
     if (c.quantity == Quantity::length) h += " [m]";
     if (c.quantity == Quantity::time) h += " [s]";
+    if (c.quantity == Quantity::named) h += " [" + c.unit + "]";
   }
   return quote(h);
 }
@@ -40,6 +41,8 @@ double si_per(const std::string& unit, Quantity quantity) {
       return unit == "s" ? 1 : unit == "min" ? 60 : unit == "h" ? 3600 : unit == "d" ? 86400 : 0;
     case Quantity::count:
       return unit.empty() ? 1 : 0;
+    case Quantity::named:
+      return 0;  // read_unit_table compares with the column's unit
   }
   return 0;
 }
@@ -49,6 +52,7 @@ std::string units_of(Quantity quantity) {
     case Quantity::length: return "m, cm or mm";
     case Quantity::time: return "s, min, h or d";
     case Quantity::count: return "no unit";
+    case Quantity::named: return "its unit";
   }
   return "?";
 }
@@ -114,10 +118,13 @@ UnitTable read_unit_table(const fs::path& file, const std::vector<UnitColumn>& c
       if (cells.size() < required || cells.size() > columns.size())
         fail(where, "wrong number of columns in the header", "a header " + header_of(columns), quote(t));
       for (std::size_t c = 0; c < cells.size(); ++c) {
-        const double s = si_per(unit_of(cells[c]), columns[c].quantity);
+        const UnitColumn& column = columns[c];
+        const double s = column.quantity == Quantity::named ? (unit_of(cells[c]) == column.unit ? 1.0 : 0.0)
+                                                             : si_per(unit_of(cells[c]), column.quantity);
         if (s == 0)
-          fail(where, "unit missing or unknown", columns[c].name + " in " + units_of(columns[c].quantity) + " (" +
-                                                     header_of(columns) + ")",
+          fail(where, "unit missing or unknown",
+               column.name + " in " + (column.quantity == Quantity::named ? column.unit : units_of(column.quantity)) +
+                   " (" + header_of(columns) + ")",
                quote(cells[c]));
         scale.push_back(s);
       }

@@ -14,6 +14,7 @@ enum class Quantity {
   length,  // m, cm, mm
   time,    // s, min, h, d (a day of 86,400 s)
   count,   // no unit: whole numbers (a ring's number)
+  named,   // exactly the column's own unit (UnitColumn::unit: Pa, m/s, ...)
 };
 
 // SI units per `unit` of `quantity` (0.01 for cm, 3600 for h), 0 if `unit`
@@ -26,6 +27,7 @@ struct UnitColumn {
   std::string name;  // as a header should name it, e.g. "x"
   Quantity quantity;
   bool optional = false;  // the last columns may be left out of the header
+  std::string unit;       // Quantity::named: the one unit accepted
 };
 
 struct UnitTable {

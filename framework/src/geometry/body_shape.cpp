@@ -1,7 +1,7 @@
 #include "geometry/body_shape.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include "geometry/polygon.hpp"
 
@@ -11,72 +11,74 @@ namespace {
 
 // The polygon's plane: its two axes (u, v) in increasing order, the others
 // than the extrusion's in 3D.
-struct Plane {
-  int u = 0, v = 1;
-};
-
-Plane plane_of(const BodySpec& body, int dim) {
-  if (dim == 2) return {};
-  Plane p;
+std::array<int, 2> plane_of(const BodySpec& body, int dim) {
+  if (dim == 2) return {0, 1};
+  std::array<int, 2> p{};
   int k = 0;
   for (int a = 0; a < 3; ++a)
-    if (a != body.extrusion_axis) (k++ == 0 ? p.u : p.v) = a;
+    if (a != body.extrusion_axis) p[k++] = a;
   return p;
 }
 
-// Whether the horizontal position lies within [min, max) of the axes the
-// box (or the extrusion) spans across the vertical.
-bool within_box_across(const BodySpec& body, const double* x, int dim, bool extrusion_only) {
-  for (int a = 0; a + 1 < dim; ++a) {
-    if (extrusion_only && a != body.extrusion_axis) continue;
-    if (x[a] < body.min[a] || x[a] >= body.max[a]) return false;
-  }
-  return true;
+bool within_extrusion(const BodySpec& body, const double* x, int dim) {
+  const int e = body.extrusion_axis;
+  return dim == 2 || (x[e] >= body.min[e] && x[e] < body.max[e]);
 }
-
-// The vertical line is along the extrusion: the polygon across it.
-bool vertical_extrusion(const BodySpec& body, int dim) { return dim == 3 && body.extrusion_axis == dim - 1; }
 
 }  // namespace
 
 bool shape_contains(const BodySpec& body, const double* x, int dim) {
+  if (!body.polygon) return within_bounds(body, x, dim);
+  if (!within_extrusion(body, x, dim)) return false;
+  const std::array<int, 2> p = plane_of(body, dim);
+  return polygon_contains(*body.polygon, x[p[0]], x[p[1]]);
+}
+
+bool within_bounds(const BodySpec& body, const double* x, int dim) {
+  for (int a = 0; a < dim; ++a)
+    if (x[a] < body.min[a] || x[a] >= body.max[a]) return false;
+  return true;
+}
+
+ShapeTest::ShapeTest(const BodySpec& body, int dim) : body_(body), dim_(dim) {
+  if (body.polygon) {
+    const std::array<int, 2> p = plane_of(body, dim);
+    u_ = p[0];
+    v_ = p[1];
+  }
+}
+
+bool ShapeTest::contains(const double* x) {
+  if (!body_.polygon) return within_bounds(body_, x, dim_);
+  if (!within_extrusion(body_, x, dim_)) return false;
+  if (!cached_ || x[v_] != row_) {
+    row_crossings(*body_.polygon, x[v_], crossings_);
+    std::sort(crossings_.begin(), crossings_.end());
+    row_ = x[v_];
+    cached_ = true;
+  }
+  // Inside when an odd number of crossings lie above u (polygon_contains's rule).
+  const auto above = crossings_.end() - std::upper_bound(crossings_.begin(), crossings_.end(), x[u_]);
+  return above % 2 == 1;
+}
+
+void vertical_intervals(const BodySpec& body, const double* x, int dim, std::vector<std::array<double, 2>>& out) {
+  const int v = dim - 1;
   if (!body.polygon) {
-    for (int a = 0; a < dim; ++a)
-      if (x[a] < body.min[a] || x[a] >= body.max[a]) return false;
-    return true;
+    for (int a = 0; a < v; ++a)
+      if (x[a] < body.min[a] || x[a] >= body.max[a]) return;
+    out.push_back({body.min[v], body.max[v]});
+    return;
   }
-  if (dim == 3 && (x[body.extrusion_axis] < body.min[body.extrusion_axis] ||
-                   x[body.extrusion_axis] >= body.max[body.extrusion_axis]))
-    return false;
-  const Plane p = plane_of(body, dim);
-  return polygon_contains(*body.polygon, x[p.u], x[p.v]);
-}
-
-double exit_above(const BodySpec& body, const double* x, int dim, double y, double tolerance) {
-  const int v = dim - 1;
-  if (!body.polygon || vertical_extrusion(body, dim)) return body.max[v];
-  const Plane p = plane_of(body, dim);
-  std::vector<double> crossings;
-  crossings_at(*body.polygon, x[p.u], crossings);
-  for (double c : crossings)
-    if (c > y + tolerance) return c;
-  return y;  // not inside: nothing above
-}
-
-bool enters_at(const BodySpec& body, const double* x, int dim, double y, double tolerance) {
-  const int v = dim - 1;
-  if (!body.polygon) return std::abs(body.min[v] - y) <= tolerance && within_box_across(body, x, dim, false);
-  if (vertical_extrusion(body, dim)) {
-    const Plane p = plane_of(body, dim);
-    return std::abs(body.min[v] - y) <= tolerance && polygon_contains(*body.polygon, x[p.u], x[p.v]);
+  const std::array<int, 2> p = plane_of(body, dim);
+  if (dim == 3 && body.extrusion_axis == v) {  // the line runs along the extrusion
+    if (polygon_contains(*body.polygon, x[p[0]], x[p[1]])) out.push_back({body.min[v], body.max[v]});
+    return;
   }
-  if (dim == 3 && !within_box_across(body, x, dim, true)) return false;
-  const Plane p = plane_of(body, dim);
+  if (!within_extrusion(body, x, dim)) return;
   std::vector<double> crossings;
-  crossings_at(*body.polygon, x[p.u], crossings);
-  for (std::size_t k = 0; k < crossings.size(); k += 2)  // entries going up: the even crossings
-    if (std::abs(crossings[k] - y) <= tolerance) return true;
-  return false;
+  crossings_at(*body.polygon, x[p[0]], crossings);  // the plane's v is the vertical
+  for (std::size_t k = 0; k + 1 < crossings.size(); k += 2) out.push_back({crossings[k], crossings[k + 1]});
 }
 
 }  // namespace suffuse::detail

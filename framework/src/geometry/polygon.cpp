@@ -163,6 +163,17 @@ void crossings_at(const Polygon& polygon, double u, std::vector<double>& v) {
   std::sort(v.begin(), v.end());
 }
 
+void row_crossings(const Polygon& polygon, double v, std::vector<double>& u) {
+  u.clear();
+  for_each_ring(polygon, [&](int, const Polygon::Ring& ring) {
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+      const Point& a = ring[i];
+      const Point& b = ring[j];
+      if ((a[1] > v) != (b[1] > v)) u.push_back(a[0] + (v - a[1]) * (b[0] - a[0]) / (b[1] - a[1]));
+    }
+  });
+}
+
 std::array<double, 4> polygon_bounds(const Polygon& polygon) {
   std::array<double, 4> box{polygon.outer[0][0], polygon.outer[0][1], polygon.outer[0][0], polygon.outer[0][1]};
   for (const Point& p : polygon.outer) {

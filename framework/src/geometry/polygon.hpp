@@ -36,6 +36,11 @@ bool polygon_contains(const Polygon& polygon, double u, double v);
 // fourth, ...; polygon_contains may differ on the edges themselves).
 void crossings_at(const Polygon& polygon, double u, std::vector<double>& v);
 
+// Where the line of constant v crosses the edges, by the formula
+// polygon_contains uses: (u, v) is inside exactly when an odd number of them
+// lie above u. Unsorted.
+void row_crossings(const Polygon& polygon, double v, std::vector<double>& u);
+
 // The smallest box that holds the polygon: {u_min, v_min, u_max, v_max}.
 std::array<double, 4> polygon_bounds(const Polygon& polygon);
 

@@ -139,22 +139,27 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
   double volume = 1;
   for (int a = 0; a < D; ++a) volume *= spacing[a];  // per unit thickness in 2D
   // The lattice's points in the shape, but where an earlier body is: a later
-  // body fills only what earlier ones left (docs/geometry.md).
-  std::vector<std::array<double, 3>> kept;
-  for (std::size_t k = 0; k < count[2]; ++k)
-    for (std::size_t j = 0; j < count[1]; ++j)
-      for (std::size_t i = 0; i < count[0]; ++i) {
-        const std::size_t idx[3] = {i, j, k};
-        std::array<double, 3> xp{};
-        for (int a = 0; a < D; ++a)
-          xp[a] = body.polygon ? start[a] + static_cast<double>(idx[a]) * spacing[a]
-                               : body.min[a] + (static_cast<double>(idx[a]) + 0.5) * spacing[a];
-        if (body.polygon && !shape_contains(body, xp.data(), D)) continue;
-        bool taken = false;
-        for (const BodySpec& other : earlier) taken = taken || shape_contains(other, xp.data(), D);
-        if (!taken) kept.push_back(xp);
-      }
-  const std::size_t total = kept.size();
+  // body fills only what earlier ones left (docs/geometry.md). Two passes
+  // over the lattice, counting and then filling: no copy of the positions.
+  ShapeTest own(body, D);
+  auto for_each_point = [&](auto&& use) {
+    for (std::size_t k = 0; k < count[2]; ++k)
+      for (std::size_t j = 0; j < count[1]; ++j)
+        for (std::size_t i = 0; i < count[0]; ++i) {
+          const std::size_t idx[3] = {i, j, k};
+          std::array<double, 3> xp{};
+          for (int a = 0; a < D; ++a)
+            xp[a] = body.polygon ? start[a] + static_cast<double>(idx[a]) * spacing[a]
+                                 : body.min[a] + (static_cast<double>(idx[a]) + 0.5) * spacing[a];
+          if (body.polygon && !own.contains(xp.data())) continue;
+          bool taken = false;
+          for (const BodySpec& other : earlier)
+            taken = taken || (within_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
+          if (!taken) use(xp);
+        }
+  };
+  std::size_t total = 0;
+  for_each_point([&](const std::array<double, 3>&) { ++total; });
   const std::size_t first = points.append(total);
   const auto& f = points.core();
   double* x = points.data(f.position);
@@ -164,10 +169,10 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
   double* id = points.data(f.material_id);
   double* size = points.data(f.size);
   double* stress = points.data(f.stress);
-  for (std::size_t q = 0; q < total; ++q) {
-    const std::size_t p = first + q;
+  std::size_t p = first;
+  for_each_point([&](const std::array<double, 3>& xp) {
     for (int a = 0; a < D; ++a) {
-      x[p * D + a] = kept[q][a];
+      x[p * D + a] = xp[a];
       v[p * D + a] = body.velocity[a];
       size[p * D + a] = spacing[a];
     }
@@ -175,7 +180,8 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
     V[p] = volume;
     m[p] = volume * solid_density * (body.liquid ? 1 - body.porosity : 1.0);
     id[p] = static_cast<double>(body.material);
-  }
+    ++p;
+  });
   bodies.push_back({body.name, body.material, {first, first + total}, body.liquid.has_value()});
   return bodies.back();
 }

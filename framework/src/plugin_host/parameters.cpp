@@ -27,6 +27,7 @@ std::string to_string(ParamType type) {
     case ParamType::StringList: return "array of strings";
     case ParamType::Table: return "array of rows of numbers";
     case ParamType::Tables: return "array of arrays of rows of numbers";
+    case ParamType::TimeSeries: return "number, [[time, value], ...] or CSV file";
   }
   return "?";
 }
@@ -64,7 +65,9 @@ std::string Param::expectation(int dimension) const {
     text += "}";
     return text;
   }
-  if (type == ParamType::Table || type == ParamType::Tables) {
+  if (type == ParamType::TimeSeries) {
+    text = "a number, a table [[time [s], value], ...] (times increasing) or a CSV file with units";
+  } else if (type == ParamType::Table || type == ParamType::Tables) {
     text = "array of [" + std::string(length == 2 ? "number, number" : std::to_string(length) + " numbers") + "] rows";
     if (type == ParamType::Tables) text = "array of arrays of [" + text.substr(10);
   } else if (type == ParamType::Vector) {
@@ -128,6 +131,30 @@ const std::vector<std::string>& Parameters::string_list(const std::string& name)
 const std::vector<std::vector<double>>& Parameters::tables(const std::string& name) const {
   return std::get<std::vector<std::vector<double>>>(get(name));
 }
+TimeFunction Parameters::time_series(const std::string& name) const {
+  const ParamValue& v = get(name);
+  if (const double* constant = std::get_if<double>(&v)) return TimeFunction(*constant);
+  return TimeFunction(std::get<std::vector<double>>(v));
+}
+
+TimeFunction::TimeFunction(std::span<const double> rows) {
+  for (std::size_t k = 0; k + 1 < rows.size(); k += 2) {
+    if (!times_.empty() && !(rows[k] > times_.back()))
+      throw Error("a time function's times must increase: " + number_text(rows[k]) + " s after " +
+                  number_text(times_.back()) + " s");
+    times_.push_back(rows[k]);
+    values_.push_back(rows[k + 1]);
+  }
+}
+
+double TimeFunction::operator()(double time) const {
+  if (times_.empty()) return 0.0;
+  if (!(time > times_.front())) return values_.front();
+  if (time >= times_.back()) return values_.back();
+  const std::size_t k = static_cast<std::size_t>(std::upper_bound(times_.begin(), times_.end(), time) - times_.begin());
+  const double t0 = times_[k - 1], t1 = times_[k];
+  return values_[k - 1] + (time - t0) / (t1 - t0) * (values_[k] - values_[k - 1]);
+}
 std::optional<double> Parameters::maybe_number(const std::string& name) const {
   if (!has(name)) return std::nullopt;
   return number(name);
@@ -149,6 +176,8 @@ Parameters ParameterSchema::complete(std::map<std::string, ParamValue> values) c
         case ParamType::StringList: return std::holds_alternative<std::vector<std::string>>(value);
         case ParamType::Table: return std::holds_alternative<std::vector<double>>(value);
         case ParamType::Tables: return std::holds_alternative<std::vector<std::vector<double>>>(value);
+        case ParamType::TimeSeries:
+          return std::holds_alternative<double>(value) || std::holds_alternative<std::vector<double>>(value);
       }
       return false;
     }(value);

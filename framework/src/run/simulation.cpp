@@ -188,6 +188,10 @@ void Simulation::create_bodies() {
     const Phase& phase = materials_->phase(body.material);
     const detail::BodyPoints b =
         domain_->create_body(body, phase.density(), std::span(scene_.bodies).first(i));
+    if (b.range.begin == b.range.end)
+      throw Error("/bodies/" + std::to_string(i) + " ('" + body.name +
+                  "'): no material point: the body lies within earlier bodies (a later body fills only what earlier "
+                  "ones left) or is thinner than a point's spacing, grid cell / points_per_cell (docs/geometry.md)");
     if (mixture_) mixture_->initialise(body, b);
     if (species_) species_->initialise(body, b);
     const double rho_w = body.liquid ? mixture_->liquid(*body.liquid).density() : 0.0;

@@ -98,7 +98,7 @@ PluginNode SceneReader::plugin_node(const Json& node, const std::string& ptr, Pl
   std::set<std::string> reserved = core_keys;
   reserved.insert("type");
   const std::size_t before = diags.size();
-  result.params = validate_object(node, info->schema(), ptr, result.type, dim, diags, reserved);
+  result.params = validate_object(node, info->schema(), ptr, result.type, dim, diags, reserved, base_dir);
   if (info->check && diags.size() == before && dim != 0) {
     std::vector<ParameterIssue> issues;
     try {

@@ -104,8 +104,9 @@ std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const s
     if (file.is_relative()) file = r.base_dir / file;
     source = file.string();
     try {
-      const UnitTable t = read_unit_table(
-          file, {{"x", Quantity::length}, {"y", Quantity::length}, {"ring", Quantity::count, true}}, 64 << 20);
+      const std::vector<UnitColumn> columns = {
+          {"x", Quantity::length, false, ""}, {"y", Quantity::length, false, ""}, {"ring", Quantity::count, true, ""}};
+      const UnitTable t = read_unit_table(file, columns, 1 << 20);  // 10,000 vertices are 200 to 500 KiB
       for (std::size_t k = 0; k < t.rows.size(); ++k) {
         const double ring = t.columns > 2 ? t.rows[k][2] : 0;
         const auto rings = polygon.holes.size() + 1;

@@ -5,8 +5,12 @@
 #include <fstream>
 #include <optional>
 #include <set>
-#include <vector>
 #include <sstream>
+#include <vector>
+
+#include "common/unit_table.hpp"
+#include "scene/scene_reader.hpp"
+#include "suffuse/error.hpp"
 
 namespace suffuse::detail {
 
@@ -42,7 +46,6 @@ bool in_range(const Param& p, double v) {
   return true;
 }
 
-// Returns the value, or nothing after appending a diagnostic.
 // A table's rows of `columns` numbers, row after row into xs; the problem if
 // a row is not an array of that many numbers, else null.
 const char* rows_of(const json& table, int columns, std::vector<double>& xs) {
@@ -56,8 +59,62 @@ const char* rows_of(const json& table, int columns, std::vector<double>& xs) {
   return nullptr;
 }
 
-std::optional<ParamValue> convert(const json& v, const Param& p, const std::string& ptr,
-                                  const std::string& by, int dim, std::vector<Diagnostic>& out) {
+// A value in time: a number, a table of (time, value) rows or a CSV file with
+// units (time in s, min, h or d; the value in the parameter's unit, lengths
+// also in cm or mm), into rows in seconds; the times increasing, every value
+// in range. Returns the value, or nothing after appending a diagnostic.
+std::optional<ParamValue> time_series(const json& v, const Param& p, const std::string& ptr, const std::string& by,
+                                      std::vector<Diagnostic>& out, const std::filesystem::path& base_dir) {
+  auto fail = [&](std::string at, const std::string& problem, const std::string& expected, const std::string& found) {
+    out.push_back({std::move(at), problem, expected, found, by});
+    return std::nullopt;
+  };
+  if (v.is_number()) {
+    const double x = v.get<double>();
+    if (!in_range(p, x)) return fail(ptr, "value out of range", p.expectation(0), show(v));
+    return ParamValue{x};
+  }
+  std::vector<double> rows;
+  std::vector<std::string> where;  // each row's place, for messages
+  if (v.is_array()) {
+    if (const char* problem = rows_of(v, 2, rows)) return fail(ptr, problem, p.expectation(0), show(v));
+    for (std::size_t k = 0; k < v.size(); ++k) where.push_back(ptr + "/" + std::to_string(k));
+  } else if (v.is_string()) {
+    std::filesystem::path file = v.get<std::string>();
+    if (file.is_relative()) file = base_dir / file;
+    const Quantity quantity = p.unit == "m" ? Quantity::length : Quantity::named;
+    try {
+      const UnitTable t = read_unit_table(file, {{"time", Quantity::time, false, ""}, {"value", quantity, false, p.unit}},
+                                          std::size_t{16} << 20);
+      for (std::size_t k = 0; k < t.rows.size(); ++k) {
+        rows.insert(rows.end(), t.rows[k].begin(), t.rows[k].end());
+        where.push_back(file.string() + ":" + std::to_string(t.lines[k]));
+      }
+    } catch (const Error& e) {
+      return fail(ptr, "unreadable time series", "a CSV file \"time [h], value [" + p.unit + "]\" (docs/boundaries.md)",
+                  e.what());
+    }
+  } else {
+    return fail(ptr, "wrong type", p.expectation(0), show(v));
+  }
+  if (rows.empty()) return fail(ptr, "empty time series", "at least one row (time, value)", "none");
+  // Inline rows are named by their JSON path; a file's by the key that names
+  // it, with the file's line.
+  const bool from_file = v.is_string();
+  for (std::size_t k = 0; 2 * k < rows.size(); ++k) {
+    const double t = rows[2 * k], x = rows[2 * k + 1];
+    const std::string at = from_file ? ptr : where[k], line = from_file ? where[k] + ": " : "";
+    if (k > 0 && !(t > rows[2 * k - 2]))
+      return fail(at, "times not increasing", "a time after the previous row's " + format(rows[2 * k - 2]) + " s",
+                  line + format(t) + " s");
+    if (!in_range(p, x)) return fail(at, "value out of range", p.expectation(0), line + format(x));
+  }
+  return ParamValue{rows};
+}
+
+// Returns the value, or nothing after appending a diagnostic.
+std::optional<ParamValue> convert(const json& v, const Param& p, const std::string& ptr, const std::string& by,
+                                  int dim, std::vector<Diagnostic>& out, const std::filesystem::path& base_dir) {
   auto fail = [&](const std::string& problem) {
     out.push_back({ptr, problem, p.expectation(dim), show(v), by});
     return std::nullopt;
@@ -115,6 +172,8 @@ std::optional<ParamValue> convert(const json& v, const Param& p, const std::stri
       }
       return ParamValue{tables};
     }
+    case ParamType::TimeSeries:
+      return time_series(v, p, ptr, by, out, base_dir);
     case ParamType::StringList: {
       if (!v.is_array()) return fail("wrong type");
       std::vector<std::string> xs;
@@ -132,7 +191,7 @@ std::optional<ParamValue> convert(const json& v, const Param& p, const std::stri
 
 Parameters validate_object(const json& node, const ParameterSchema& schema, const std::string& pointer,
                            const std::string& declared_by, int dim, std::vector<Diagnostic>& out,
-                           const std::set<std::string>& reserved) {
+                           const std::set<std::string>& reserved, const std::filesystem::path& base_dir) {
   std::map<std::string, ParamValue> values;
   if (!node.is_object()) {
     out.push_back({pointer, "wrong type", "object", show(node), declared_by});
@@ -150,7 +209,7 @@ Parameters validate_object(const json& node, const ParameterSchema& schema, cons
                      "\"" + key + "\"", declared_by});
       continue;
     }
-    if (auto v = convert(value, *p, ptr, declared_by, dim, out)) values[key] = *v;
+    if (auto v = convert(value, *p, ptr, declared_by, dim, out, base_dir)) values[key] = *v;
   }
   for (const Param& p : schema.params()) {
     if (node.contains(p.name)) continue;

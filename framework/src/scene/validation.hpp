@@ -30,9 +30,11 @@ std::string read_scene_file(const std::filesystem::path& file);
 
 // Validates `node` (must be an object) against `schema`. Keys in `reserved`
 // belong to someone else and are skipped. Every problem is appended to `out`;
-// the returned Parameters hold the valid values and defaults.
+// the returned Parameters hold the valid values and defaults. Files the
+// values name (a time series' CSV) are relative to base_dir.
 Parameters validate_object(const Json& node, const ParameterSchema& schema,
                            const std::string& pointer, const std::string& declared_by, int dim,
-                           std::vector<Diagnostic>& out, const std::set<std::string>& reserved = {});
+                           std::vector<Diagnostic>& out, const std::set<std::string>& reserved = {},
+                           const std::filesystem::path& base_dir = {});
 
 }  // namespace suffuse::detail

@@ -14,9 +14,11 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
   static suffuse::ParameterSchema schema() {
     suffuse::ParameterSchema s;
     s.choice("face", suffuse::grid_face_names()).doc("Grid face the liquid enters through");
-    s.number("flux").with_unit("m/s").doc("Darcy flux q entering the body (negative: leaving)");
+    s.time_series("flux").with_unit("m/s").doc(
+        "Darcy flux q entering the body (negative: leaving): a number, or in time a table [[t, q], ...] or a CSV "
+        "file (docs/boundaries.md)");
     s.number("ramp_time").with_unit("s").at_least(0).fallback(0.0).doc(
-        "Time over which the flux grows linearly from zero (0: at once)");
+        "Time over which a constant flux grows linearly from zero (0: at once); a table gives its own ramp");
     s.number("concentration").with_unit("-").at_least(0).at_most(1).fallback(0.0).doc(
         "Concentration of suspended fines (volume / liquid volume) in the liquid entering through the face; the "
         "face is open to the liquid and its fines either way");
@@ -25,11 +27,13 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
 
   static std::vector<suffuse::ParameterIssue> check(const suffuse::Parameters& p, int dim) {
     if (auto issue = suffuse::grid_face_issue("face", p.string("face"), dim)) return {*issue};
+    if (!p.time_series("flux").constant() && p.number("ramp_time") > 0)
+      return {{"ramp_time", "a ramp of a table", "the ramp as the table's first rows", "a ramp and a table"}};
     return {};
   }
 
   explicit InflowFluxBC(const suffuse::PluginArgs& a)
-      : dim_(a.dim), face_(*suffuse::grid_face(a.params.string("face"))), flux_(a.params.number("flux")),
+      : dim_(a.dim), face_(*suffuse::grid_face(a.params.string("face"))), flux_(a.params.time_series("flux")),
         ramp_(a.params.number("ramp_time")),
         concentration_(a.params.number("concentration")) {}
 
@@ -41,7 +45,7 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
 
   void constrain_velocity(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
     if (!state.has_liquid()) return;
-    const double q = flux_ * suffuse::ramp_factor(time, ramp_);
+    const double q = flux_.constant() ? flux_(time) * suffuse::ramp_factor(time, ramp_) : flux_(time);
     for (std::int64_t I : nodes_) {
       if (state.liquid_inertia[I] <= 0) continue;
       const double n = state.liquid_mass[I] / state.liquid_inertia[I];
@@ -53,7 +57,8 @@ class InflowFluxBC final : public suffuse::BoundaryCondition {
  private:
   int dim_;
   suffuse::GridFace face_;
-  double flux_, ramp_;
+  suffuse::TimeFunction flux_;
+  double ramp_;
   double concentration_;
   std::vector<std::int64_t> nodes_;
 };

@@ -15,14 +15,18 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
   static suffuse::ParameterSchema schema() {
     suffuse::ParameterSchema s;
     s.choice("face", suffuse::grid_face_names()).doc("Grid face where the pressure acts");
-    s.number("pressure").with_unit("Pa").may_be_absent().doc("Prescribed pore pressure p, compression positive");
-    s.number("head").with_unit("m").may_be_absent().doc(
+    s.time_series("pressure").with_unit("Pa").may_be_absent().doc(
+        "Prescribed pore pressure p, compression positive: a number, or in time a table [[t, p], ...] or a CSV file "
+        "(docs/boundaries.md)");
+    s.time_series("head").with_unit("m").may_be_absent().doc(
         "Prescribed hydraulic head h instead of pressure: p = gamma_w (h - elevation), elevation the vertical "
-        "coordinate (y in 2D, z in 3D)");
+        "coordinate (y in 2D, z in 3D); a number, or in time a table [[t, h], ...] or a CSV file (a hydrograph: "
+        "\"time [h], head [m]\")");
     s.number("unit_weight").with_unit("N/m^3").above(0).fallback(9810.0).doc(
         "Unit weight of the liquid gamma_w, to convert head to pressure");
     s.number("ramp_time").with_unit("s").at_least(0).fallback(0.0).doc(
-        "Time over which the pressure grows linearly from its initial value on the face (0: at once)");
+        "Time over which a constant pressure grows linearly from its initial value on the face (0: at once); a "
+        "shorthand of the table [[0, initial], [ramp_time, value]]");
     s.number("initial_head").with_unit("m").may_be_absent().doc(
         "Head at the start of the ramp (default: the prescribed head, i.e. no ramp of the head)");
     s.number("concentration").with_unit("-").at_least(0).at_most(1).fallback(0.0).doc(
@@ -39,6 +43,10 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
     if (auto issue = suffuse::grid_face_issue("face", p.string("face"), dim)) issues.push_back(*issue);
     if (p.has("initial_head") && !p.has("head"))
       issues.push_back({"initial_head", "initial head without head", "\"head\" as well", "only initial_head"});
+    const char* given = p.has("head") ? "head" : "pressure";
+    if (p.has(given) && !p.time_series(given).constant() && (p.number("ramp_time") > 0 || p.has("initial_head")))
+      issues.push_back({p.has("initial_head") ? "initial_head" : "ramp_time", "a ramp of a table",
+                        "the ramp as the table's first rows", "a ramp and a table"});
     return issues;
   }
 
@@ -49,10 +57,10 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
         ramp_(a.params.number("ramp_time")),
         concentration_(a.params.number("concentration")) {
     if (a.params.has("pressure")) {
-      pressure_ = a.params.number("pressure");
+      pressure_ = a.params.time_series("pressure");
     } else {
-      head_ = a.params.number("head");
-      initial_head_ = a.params.has("initial_head") ? a.params.number("initial_head") : *head_;
+      head_ = a.params.time_series("head");
+      initial_head_ = a.params.has("initial_head") ? a.params.number("initial_head") : head_->initial();
     }
   }
 
@@ -70,15 +78,17 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
 
   void apply_forces(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
     if (!state.has_liquid()) return;
+    // A constant value ramps from its initial one; a table gives its own ramp.
     const double r = suffuse::ramp_factor(time, ramp_);
+    double h = 0, p_face = 0;
+    if (head_) {
+      const double target = (*head_)(time);
+      h = head_->constant() ? *initial_head_ + r * (target - *initial_head_) : target;
+    } else {
+      p_face = pressure_->constant() ? r * (*pressure_)(time) : (*pressure_)(time);
+    }
     for (std::size_t k = 0; k < nodes_.size(); ++k) {
-      double p;
-      if (head_) {
-        const double h = *initial_head_ + r * (*head_ - *initial_head_);
-        p = gamma_ * (h - elevations_[k]);
-      } else {
-        p = r * *pressure_;
-      }
+      const double p = head_ ? gamma_ * (h - elevations_[k]) : p_face;
       const double f = -p * face_.outward() * areas_[k];  // traction -p n
       state.force[nodes_[k] * dim_ + face_.axis] += f;
       state.liquid_force[nodes_[k] * dim_ + face_.axis] += f;
@@ -89,7 +99,8 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
   int dim_;
   suffuse::GridFace face_;
   double gamma_, ramp_;
-  std::optional<double> pressure_, head_, initial_head_;
+  std::optional<suffuse::TimeFunction> pressure_, head_;
+  std::optional<double> initial_head_;
   double concentration_;
   std::vector<std::int64_t> nodes_;
   std::vector<double> areas_, elevations_;

@@ -27,6 +27,9 @@ class TractionBC final : public suffuse::BoundaryCondition {
     s.vector("traction").with_unit("Pa").doc("Traction vector, e.g. [0, -10e3] for a 10 kPa surcharge on a top surface");
     s.number("ramp_time").with_unit("s").at_least(0).fallback(0.0).doc(
         "Time over which the load grows linearly from zero (0: applied at once)");
+    s.time_series("factor").with_unit("-").fallback(1.0).doc(
+        "The load in time: traction times this factor, a number or a table [[t, factor], ...] or a CSV file "
+        "(docs/boundaries.md); with ramp_time, the ramp multiplies it");
     return s;
   }
 
@@ -50,7 +53,8 @@ class TractionBC final : public suffuse::BoundaryCondition {
         lo_(args.params.vector("box_min")),
         hi_(args.params.vector("box_max")),
         traction_(args.params.vector("traction")),
-        ramp_(args.params.number("ramp_time")) {
+        ramp_(args.params.number("ramp_time")),
+        factor_(args.params.time_series("factor")) {
     for (int a = 0; a < dim_; ++a)
       if (lo_[a] == hi_[a]) normal_ = a;
   }
@@ -105,7 +109,7 @@ class TractionBC final : public suffuse::BoundaryCondition {
 
   void apply_point_forces(const suffuse::GridGeometry& grid, const suffuse::PointSet& points, suffuse::NodeState& state,
                           double time) const override {
-    const double factor = suffuse::ramp_factor(time, ramp_);
+    const double factor = suffuse::ramp_factor(time, ramp_) * factor_(time);
     const auto& core = points.core();
     const double* x = points.data(core.position);
     const double* size = points.data(core.size);
@@ -167,6 +171,7 @@ class TractionBC final : public suffuse::BoundaryCondition {
   std::string where_;
   std::vector<double> lo_, hi_, traction_;
   double ramp_;
+  suffuse::TimeFunction factor_;
   int normal_ = 0;
   double side_ = 1;
   std::vector<std::size_t> points_;

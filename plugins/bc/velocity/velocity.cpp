@@ -16,9 +16,10 @@ class VelocityBC final : public suffuse::BoundaryCondition {
         "Grid face whose nodes are constrained: left/right x = min/max, bottom/top y, front/back z (3D)");
     s.vector("box_min").with_unit("m").may_be_absent().doc("Lower corner of a box of constrained nodes (instead of face)");
     s.vector("box_max").with_unit("m").may_be_absent().doc("Upper corner of a box of constrained nodes");
-    s.number("vx").with_unit("m/s").may_be_absent().doc("Prescribed x velocity (absent: free)");
-    s.number("vy").with_unit("m/s").may_be_absent().doc("Prescribed y velocity (absent: free)");
-    s.number("vz").with_unit("m/s").may_be_absent().doc("Prescribed z velocity, 3D only (absent: free)");
+    s.time_series("vx").with_unit("m/s").may_be_absent().doc(
+        "Prescribed x velocity (absent: free): a number, or in time a table [[t, v], ...] or a CSV file");
+    s.time_series("vy").with_unit("m/s").may_be_absent().doc("Prescribed y velocity (absent: free), as vx");
+    s.time_series("vz").with_unit("m/s").may_be_absent().doc("Prescribed z velocity, 3D only (absent: free), as vx");
     s.choice("phase", {"both", "solid", "liquid"}).fallback(std::string("both")).doc(
         "In saturated bodies, which phase is constrained: both (an impermeable wall), solid (a drained, "
         "permeable wall) or liquid");
@@ -56,7 +57,7 @@ class VelocityBC final : public suffuse::BoundaryCondition {
     const auto& p = args.params;
     const char* names[3] = {"vx", "vy", "vz"};
     for (int c = 0; c < dim_; ++c)
-      if (p.has(names[c])) components_.push_back({c, p.number(names[c])});
+      if (p.has(names[c])) components_.push_back({c, p.time_series(names[c])});
     const std::string& phase = p.string("phase");
     solid_ = phase != "liquid";
     liquid_ = phase != "solid";
@@ -84,23 +85,20 @@ class VelocityBC final : public suffuse::BoundaryCondition {
     if (nodes_.empty()) throw suffuse::Error(where_ + ": the box from box_min to box_max contains no grid node (declared by bc/velocity)");
   }
 
-  void constrain_velocity(const suffuse::GridGeometry&, suffuse::NodeState& state, double) const override {
-    if (solid_) {
-      double* v = state.velocity.data();
-      for (const auto& [c, value] : components_)
-        for (std::int64_t I : nodes_) v[I * dim_ + c] = value;
-    }
-    if (liquid_ && state.has_liquid()) {
-      double* v = state.liquid_velocity.data();
-      for (const auto& [c, value] : components_)
-        for (std::int64_t I : nodes_) v[I * dim_ + c] = value;
+  void constrain_velocity(const suffuse::GridGeometry&, suffuse::NodeState& state, double time) const override {
+    for (const auto& [c, velocity] : components_) {
+      const double value = velocity(time);
+      if (solid_)
+        for (std::int64_t I : nodes_) state.velocity[I * dim_ + c] = value;
+      if (liquid_ && state.has_liquid())
+        for (std::int64_t I : nodes_) state.liquid_velocity[I * dim_ + c] = value;
     }
   }
 
  private:
   struct Component {
     int axis;
-    double value;
+    suffuse::TimeFunction value;
   };
   int dim_;
   std::string where_;

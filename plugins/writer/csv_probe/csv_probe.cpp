@@ -158,7 +158,7 @@ class CsvProbe final : public suffuse::Writer {
   std::string saved_state() const override { return followed_ ? std::to_string(*followed_) : std::string(); }
 
   void points_renumbered(std::span<const std::size_t> new_number) override {
-    if (followed_) followed_ = new_number[*followed_];
+    if (followed_ && *followed_ < new_number.size()) followed_ = new_number[*followed_];
   }
 
   // The followed point: nearest to `at` in the initial configuration
