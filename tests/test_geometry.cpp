@@ -281,3 +281,48 @@ TEST(Geometry, GeostaticStressOfPointsOnASlope) {
   }, "a slope under an overhang");
   EXPECT_GT(on_slope, 10u) << "points of the lattice on the slope";
 }
+
+// Points generated elsewhere: each row of the file a point of its position
+// and volume (a square of that area its size), but where an earlier body
+// is; a volume that is not positive, a point outside the grid and a volume in
+// another unit are refused with the file's line.
+TEST(Geometry, PointsFromAFile) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_geometry_points";
+  fs::create_directories(dir);
+  std::ofstream(dir / "points.csv") << "x [cm], y [cm], volume [m^2]\n10, 10, 0.0004\n30, 12.5, 0.0009\n"
+                                       "55, 60, 0.0001\n90, 90, 0.0016\n";
+  const json box = {{"material", "clay"}, {"min", {0.5, 0.5}}, {"max", {1.0, 1.0}}};
+  const json from_file = {{"material", "soil"}, {"points_file", (dir / "points.csv").string()}};
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(scene_with(2, 10, json::array({box, from_file})), registry);
+  suffuse::Simulation sim(scene, registry, 1);
+  const suffuse::PointSet& pts = sim.points();
+  const std::size_t first = pts.size() - 2;  // the box's points, then the file's two outside it
+  const double* x = pts.data(pts.core().position);
+  const double* V = pts.data(pts.core().volume);
+  const double* size = pts.data(pts.core().size);
+  EXPECT_EQ(pts.size(), 5u * 5u * 4u + 2u) << "the box: 5 x 5 cells of 4 points, and 2 of the file's 4";
+  EXPECT_DOUBLE_EQ(x[2 * first], 0.1);
+  EXPECT_DOUBLE_EQ(x[2 * first + 1], 0.1);
+  EXPECT_DOUBLE_EQ(V[first], 0.0004);
+  EXPECT_DOUBLE_EQ(size[2 * first], 0.02);
+  EXPECT_DOUBLE_EQ(x[2 * first + 3], 0.125);
+  EXPECT_DOUBLE_EQ(V[first + 1], 0.0009);
+
+  std::ofstream(dir / "negative.csv") << "x [m], y [m], volume [m^2]\n0.1, 0.1, 0.001\n0.2, 0.2, 0\n";
+  std::ofstream(dir / "outside.csv") << "x [m], y [m], volume [m^2]\n0.1, 0.1, 0.001\n1.2, 0.2, 0.001\n";
+  std::ofstream(dir / "unit.csv") << "x [m], y [m], volume [m^3]\n0.1, 0.1, 0.001\n";
+  for (const auto& [file, says] : {std::pair<const char*, const char*>{"negative.csv", "negative.csv:3: volume not positive"},
+                                   {"outside.csv", "outside.csv:3: point outside the grid"},
+                                   {"unit.csv", "unit.csv:1: unit missing or unknown"}}) {
+    try {
+      suffuse::test::scene_from(scene_with(2, 10, json::array({{{"material", "soil"}, {"points_file", (dir / file).string()}}})),
+                                registry);
+      ADD_FAILURE() << file << " accepted";
+    } catch (const suffuse::SceneError& e) {
+      ASSERT_EQ(e.diagnostics().size(), 1u) << file;
+      EXPECT_EQ(e.diagnostics()[0].pointer, "/bodies/0/points_file");
+      EXPECT_NE(e.diagnostics()[0].found.find(says), std::string::npos) << e.diagnostics()[0].found;
+    }
+  }
+}

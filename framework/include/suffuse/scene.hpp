@@ -47,7 +47,10 @@ struct BodySpec {
   // (points_per_cell per cell and axis), those whose centre is inside.
   std::optional<Polygon> polygon;
   int extrusion_axis = 2;
-  std::string shape_source;  // the polygon's file, or its JSON pointer when inline
+  std::string shape_source;  // the polygon's or the points' file, or its JSON pointer when inline
+  // A body of points read from a file (docs/geometry.md): each point's
+  // position and volume, row after row (dim + 1 values); it has no shape.
+  std::vector<double> points;
   int points_per_cell = 2;  // per axis
   std::array<double, 3> velocity{};
   std::optional<std::size_t> liquid;  // index into Scene::liquids: a saturated body

@@ -28,6 +28,7 @@ bool within_extrusion(const BodySpec& body, const double* x, int dim) {
 }  // namespace
 
 bool shape_contains(const BodySpec& body, const double* x, int dim) {
+  if (!body.points.empty()) return false;  // points from a file have no shape
   if (!body.polygon) return within_bounds(body, x, dim);
   if (!within_extrusion(body, x, dim)) return false;
   const std::array<int, 2> p = plane_of(body, dim);
@@ -63,6 +64,7 @@ bool ShapeTest::contains(const double* x) {
 }
 
 void vertical_intervals(const BodySpec& body, const double* x, int dim, std::vector<std::array<double, 2>>& out) {
+  if (!body.points.empty()) return;  // points from a file have no shape
   const int v = dim - 1;
   if (!body.polygon) {
     for (int a = 0; a < v; ++a)

@@ -11,7 +11,8 @@ namespace suffuse::detail {
 
 // Whether position x (dim components) lies in the body's shape: a box from
 // min (included) to max (excluded) on every axis; a polygon by
-// polygon_contains in its plane, and so along the extrusion.
+// polygon_contains in its plane, and so along the extrusion; never for a
+// body of points from a file, which has no shape.
 bool shape_contains(const BodySpec& body, const double* x, int dim);
 
 // Whether a position may lie in the shape: inside the box that holds it

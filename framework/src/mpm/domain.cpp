@@ -143,6 +143,17 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
   // over the lattice, counting and then filling: no copy of the positions.
   ShapeTest own(body, D);
   auto for_each_point = [&](auto&& use) {
+    if (!body.points.empty()) {  // from a file: each row a point
+      for (std::size_t r = 0; r + D < body.points.size(); r += D + 1) {
+        std::array<double, 3> xp{};
+        for (int a = 0; a < D; ++a) xp[a] = body.points[r + a];
+        bool taken = false;
+        for (const BodySpec& other : earlier)
+          taken = taken || (within_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
+        if (!taken) use(xp, body.points[r + D]);
+      }
+      return;
+    }
     for (std::size_t k = 0; k < count[2]; ++k)
       for (std::size_t j = 0; j < count[1]; ++j)
         for (std::size_t i = 0; i < count[0]; ++i) {
@@ -155,11 +166,11 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
           bool taken = false;
           for (const BodySpec& other : earlier)
             taken = taken || (within_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
-          if (!taken) use(xp);
+          if (!taken) use(xp, volume);
         }
   };
   std::size_t total = 0;
-  for_each_point([&](const std::array<double, 3>&) { ++total; });
+  for_each_point([&](const std::array<double, 3>&, double) { ++total; });
   const std::size_t first = points.append(total);
   const auto& f = points.core();
   double* x = points.data(f.position);
@@ -170,15 +181,17 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
   double* size = points.data(f.size);
   double* stress = points.data(f.stress);
   std::size_t p = first;
-  for_each_point([&](const std::array<double, 3>& xp) {
+  for_each_point([&](const std::array<double, 3>& xp, double point_volume) {
+    // A point from a file: a cube (a square in 2D) of its volume.
+    const double side = body.points.empty() ? 0.0 : std::pow(point_volume, 1.0 / D);
     for (int a = 0; a < D; ++a) {
       x[p * D + a] = xp[a];
       v[p * D + a] = body.velocity[a];
-      size[p * D + a] = spacing[a];
+      size[p * D + a] = body.points.empty() ? spacing[a] : side;
     }
     for (int c = 0; c < 6; ++c) stress[p * 6 + c] = body.stress[c];
-    V[p] = volume;
-    m[p] = volume * solid_density * (body.liquid ? 1 - body.porosity : 1.0);
+    V[p] = point_volume;
+    m[p] = point_volume * solid_density * (body.liquid ? 1 - body.porosity : 1.0);
     id[p] = static_cast<double>(body.material);
     ++p;
   });

@@ -18,6 +18,7 @@ MemoryEstimate estimate_memory(const Scene& scene) {
     double count = 1;
     for (int a = 0; a < D; ++a)
       count *= std::max(1.0, std::round((b.max[a] - b.min[a]) / scene.grid_cell_size[a] * b.points_per_cell));
+    if (!b.points.empty()) count = static_cast<double>(b.points.size() / static_cast<std::size_t>(D + 1));
     if (b.polygon) {  // the share of its bounding box the polygon fills
       const std::array<double, 4> box = polygon_bounds(*b.polygon);
       count *= polygon_area(*b.polygon) / ((box[2] - box[0]) * (box[3] - box[1]));

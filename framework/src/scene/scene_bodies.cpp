@@ -26,6 +26,10 @@ ParameterSchema body_schema() {
       "the holes");
   s.tables("holes", 2).with_unit("m").may_be_absent().doc(
       "Holes of an inline polygon: rings of vertices inside its outer ring, apart from each other");
+  s.string("points_file").may_be_absent().doc(
+      "A body of points generated elsewhere, instead of a shape: a CSV file relative to the scene, a header with "
+      "units (\"x [m], y [m], volume [m^2]\" in 2D, \"x [m], y [m], z [m], volume [m^3]\" in 3D; lengths in m, cm or "
+      "mm) and a row per point (docs/geometry.md)");
   s.choice("extrusion_axis", {"x", "y", "z"}).may_be_absent().doc(
       "3D polygon bodies: the axis the polygon is extruded along, between min and max of that axis");
   s.integer("points_per_cell").with_unit("-").at_least(1).at_most(8).fallback(2LL).doc(
@@ -137,8 +141,56 @@ std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const s
   return polygon;
 }
 
+// A body of points from a file: positions in the grid, volumes above zero.
+void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
+  const std::string at = ptr + "/points_file";
+  for (const char* key : {"min", "max", "polygon", "polygon_file", "holes", "extrusion_axis", "k0"})
+    if (b.has(key)) {
+      r.error(ptr + "/" + key, std::string(key) == "k0" ? "k0 on a body of points" : "a points file and a shape",
+              std::string(key) == "k0" ? "no k0: the initial stress of a body without a shape is its \"stress\""
+                                       : "either points_file or a box or polygon",
+              key, "core (body)");
+      return;
+    }
+  std::filesystem::path file = b.string("points_file");
+  if (file.is_relative()) file = r.base_dir / file;
+  body.shape_source = file.string();
+  const int D = r.dim;
+  try {
+    std::vector<UnitColumn> columns;
+    for (int a = 0; a < D; ++a) columns.push_back({std::string(1, char('x' + a)), Quantity::length, false, ""});
+    columns.push_back({"volume", Quantity::named, false, D == 2 ? "m^2" : "m^3"});
+    // 64 MiB: about a million points (a flat reader would take more; say so if you need it).
+    const UnitTable t = read_unit_table(file, columns, std::size_t{64} << 20);
+    if (t.rows.empty()) throw Error(file.string() + ": no point: expected a row per point, found none");
+    for (std::size_t k = 0; k < t.rows.size(); ++k) {
+      const std::string where = file.string() + ":" + std::to_string(t.lines[k]);
+      if (!(t.rows[k][D] > 0)) throw Error(where + ": volume not positive: expected a volume > 0, found " + format(t.rows[k][D]));
+      if (r.grid_ok)
+        for (int a = 0; a < D; ++a) {
+          const double lo = scene.grid_origin[a], hi = lo + scene.grid_cell_size[a] * scene.grid_cells[a];
+          if (!(t.rows[k][a] >= lo && t.rows[k][a] <= hi))
+            throw Error(where + ": point outside the grid: expected " + std::string(1, char('x' + a)) + " within [" +
+                        format(lo) + ", " + format(hi) + "], found " + format(t.rows[k][a]));
+        }
+      body.points.insert(body.points.end(), t.rows[k].begin(), t.rows[k].end());
+      for (int a = 0; a < D; ++a) {
+        body.min[a] = k == 0 ? t.rows[k][a] : std::min(body.min[a], t.rows[k][a]);
+        body.max[a] = k == 0 ? t.rows[k][a] : std::max(body.max[a], t.rows[k][a]);
+      }
+    }
+  } catch (const Error& e) {
+    body.points.clear();
+    r.error(at, "unreadable points file", "a CSV file as docs/geometry.md describes", e.what(), "core (body)");
+  }
+}
+
 // The body's shape: a box (min, max) or a polygon; either within the grid.
 void read_shape(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
+  if (b.has("points_file")) {
+    read_points(r, scene, b, ptr, body);
+    return;
+  }
   const bool polygon = b.has("polygon") || b.has("polygon_file");
   if (b.has("polygon") && b.has("polygon_file")) {
     r.error(ptr + "/polygon_file", "two polygons", "either \"polygon\" or \"polygon_file\"", "both", "core (body)");
@@ -152,7 +204,7 @@ void read_shape(SceneReader& r, const Scene& scene, const Parameters& b, const s
   const bool extruded = polygon && r.dim == 3;
   if (!polygon && !(b.has("min") && b.has("max"))) {
     r.error(ptr + (b.has("min") ? "/max" : "/min"), "missing shape",
-            "a box (min and max) or a polygon (polygon or polygon_file)", "nothing", "core (body)");
+            "a box (min and max), a polygon (polygon or polygon_file) or points_file", "nothing", "core (body)");
     return;
   }
   if (polygon && r.dim == 2 && (b.has("min") || b.has("max"))) {
