@@ -54,7 +54,6 @@ bool ShapeTest::contains(const double* x) {
   if (!within_extrusion(body_, x, dim_)) return false;
   if (!cached_ || x[v_] != row_) {
     row_crossings(*body_.polygon, x[v_], crossings_);
-    std::sort(crossings_.begin(), crossings_.end());
     row_ = x[v_];
     cached_ = true;
   }

@@ -151,28 +151,28 @@ bool polygon_contains(const Polygon& polygon, double u, double v) {
   return inside;
 }
 
-void crossings_at(const Polygon& polygon, double u, std::vector<double>& v) {
-  v.clear();
+namespace {
+
+// Where the line of coordinate `at` along axis k crosses the edges: the other
+// coordinate, sorted; for k = 1 by ring_contains's own expression.
+void line_crossings(const Polygon& polygon, int k, double at, std::vector<double>& out) {
+  const int o = 1 - k;
+  out.clear();
   for_each_ring(polygon, [&](int, const Polygon::Ring& ring) {
     for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
       const Point& a = ring[i];
       const Point& b = ring[j];
-      if ((a[0] > u) != (b[0] > u)) v.push_back(a[1] + (u - a[0]) * (b[1] - a[1]) / (b[0] - a[0]));
+      if ((a[k] > at) != (b[k] > at)) out.push_back(a[o] + (at - a[k]) * (b[o] - a[o]) / (b[k] - a[k]));
     }
   });
-  std::sort(v.begin(), v.end());
+  std::sort(out.begin(), out.end());
 }
 
-void row_crossings(const Polygon& polygon, double v, std::vector<double>& u) {
-  u.clear();
-  for_each_ring(polygon, [&](int, const Polygon::Ring& ring) {
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-      const Point& a = ring[i];
-      const Point& b = ring[j];
-      if ((a[1] > v) != (b[1] > v)) u.push_back(a[0] + (v - a[1]) * (b[0] - a[0]) / (b[1] - a[1]));
-    }
-  });
-}
+}  // namespace
+
+void crossings_at(const Polygon& polygon, double u, std::vector<double>& v) { line_crossings(polygon, 0, u, v); }
+
+void row_crossings(const Polygon& polygon, double v, std::vector<double>& u) { line_crossings(polygon, 1, v, u); }
 
 std::array<double, 4> polygon_bounds(const Polygon& polygon) {
   std::array<double, 4> box{polygon.outer[0][0], polygon.outer[0][1], polygon.outer[0][0], polygon.outer[0][1]};

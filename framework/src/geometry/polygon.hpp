@@ -38,7 +38,7 @@ void crossings_at(const Polygon& polygon, double u, std::vector<double>& v);
 
 // Where the line of constant v crosses the edges, by the formula
 // polygon_contains uses: (u, v) is inside exactly when an odd number of them
-// lie above u. Unsorted.
+// lie above u. Sorted.
 void row_crossings(const Polygon& polygon, double v, std::vector<double>& u);
 
 // The smallest box that holds the polygon: {u_min, v_min, u_max, v_max}.
