@@ -245,6 +245,15 @@ TEST(Geometry, GeostaticStressThroughOverlappingBodies) {
     if (y > 0.3) return 1.8e4 * (0.5 - y) + 2e4 * 0.3;
     return 2e4 * (0.3 - y) + 1.8e4 * 0.2 + 2e4 * 0.3;
   }, "a lens in sand");
+  // Two lenses in one column: the sand is walked in three parts.
+  const json upper_lens = {{"material", "clay"}, {"min", {0.3, 0.6}}, {"max", {0.7, 0.7}}, {"k0", 0.5}};
+  expect_vertical_stress(with_gravity(scene_with(2, 40, json::array({lens, upper_lens, sand}))), [](double u, double y) {
+    if (u < 0.3 || u > 0.7 || y > 0.7) return 2e4 * (0.8 - y);
+    if (y > 0.6) return 1.8e4 * (0.7 - y) + 2e4 * 0.1;
+    if (y > 0.5) return 2e4 * (0.6 - y) + 1.8e4 * 0.1 + 2e4 * 0.1;
+    if (y > 0.3) return 1.8e4 * (0.5 - y) + 2e4 * 0.1 + 1.8e4 * 0.1 + 2e4 * 0.1;
+    return 2e4 * (0.3 - y) + 1.8e4 * 0.2 + 2e4 * 0.1 + 1.8e4 * 0.1 + 2e4 * 0.1;
+  }, "two lenses in sand");
   const json fill = {{"material", "soil"},
                      {"polygon", {{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.6}, {0.0, 0.6}}},
                      {"holes", {{{0.4, 0.2}, {0.6, 0.2}, {0.6, 0.3}, {0.4, 0.3}}}},

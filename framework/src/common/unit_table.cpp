@@ -141,6 +141,8 @@ UnitTable read_unit_table(const fs::path& file, const std::vector<UnitColumn>& c
       if (columns[c].quantity == Quantity::count && row[c] != std::floor(row[c]))
         fail(where, "not a whole number", "a whole " + columns[c].name, quote(cells[c]));
       row[c] *= scale[c];
+      if (!std::isfinite(row[c]))
+        fail(where, "number too large", "a " + columns[c].name + " finite in SI units", quote(cells[c]));
     }
     table.rows.push_back(std::move(row));
     table.lines.push_back(number);

@@ -41,6 +41,14 @@ bool within_bounds(const BodySpec& body, const double* x, int dim) {
   return true;
 }
 
+bool near_bounds(const BodySpec& body, const double* x, int dim) {
+  for (int a = 0; a < dim; ++a) {
+    const double margin = 1e-9 * (std::abs(body.min[a]) + std::abs(body.max[a]) + (body.max[a] - body.min[a]));
+    if (x[a] < body.min[a] - margin || x[a] > body.max[a] + margin) return false;
+  }
+  return true;
+}
+
 ShapeTest::ShapeTest(const BodySpec& body, int dim) : body_(body), dim_(dim) {
   if (body.polygon) {
     const std::array<int, 2> p = plane_of(body, dim);
@@ -50,6 +58,7 @@ ShapeTest::ShapeTest(const BodySpec& body, int dim) : body_(body), dim_(dim) {
 }
 
 bool ShapeTest::contains(const double* x) {
+  if (!body_.points.empty()) return false;  // as shape_contains
   if (!body_.polygon) return within_bounds(body_, x, dim_);
   if (!within_extrusion(body_, x, dim_)) return false;
   if (!cached_ || x[v_] != row_) {

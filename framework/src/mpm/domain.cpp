@@ -149,7 +149,7 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
         for (int a = 0; a < D; ++a) xp[a] = body.points[r + a];
         bool taken = false;
         for (const BodySpec& other : earlier)
-          taken = taken || (within_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
+          taken = taken || (near_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
         if (!taken) use(xp, body.points[r + D]);
       }
       return;
@@ -165,7 +165,7 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
           if (body.polygon && !own.contains(xp.data())) continue;
           bool taken = false;
           for (const BodySpec& other : earlier)
-            taken = taken || (within_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
+            taken = taken || (near_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
           if (!taken) use(xp, volume);
         }
   };

@@ -56,10 +56,11 @@ void add_geostatic_stress(const Scene& scene, std::span<const double> unit_weigh
         break;
       }
     // Then up the vertical, body after body, to the first gap (a tolerance of
-    // round-off in the coordinates where bodies meet); each stretch ends
-    // above the last, so at most one pass per stretch.
+    // round-off in the coordinates where bodies meet). Each pass ends at an
+    // end or a start of a stretch above the last (a stretch cut by an
+    // earlier body is walked in parts), so at most one pass per end and start.
     double top = own_top, load = 0;
-    for (std::size_t pass = 0; pass < stretches.size(); ++pass) {
+    for (std::size_t pass = 0; pass < 2 * stretches.size(); ++pass) {
       const double tolerance = 1e-9 * (1 + std::abs(top));
       const Stretch* holder = nullptr;
       for (const Stretch& st : stretches)

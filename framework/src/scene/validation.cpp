@@ -75,10 +75,10 @@ std::optional<ParamValue> time_series(const json& v, const Param& p, const std::
     return ParamValue{x};
   }
   std::vector<double> rows;
-  std::vector<std::string> where;  // each row's place, for messages
+  std::vector<std::size_t> lines;  // a file's row's line, for messages
+  std::string file_name;
   if (v.is_array()) {
     if (const char* problem = rows_of(v, 2, rows)) return fail(ptr, problem, p.expectation(0), show(v));
-    for (std::size_t k = 0; k < v.size(); ++k) where.push_back(ptr + "/" + std::to_string(k));
   } else if (v.is_string()) {
     std::filesystem::path file = v.get<std::string>();
     if (file.is_relative()) file = base_dir / file;
@@ -86,10 +86,9 @@ std::optional<ParamValue> time_series(const json& v, const Param& p, const std::
     try {
       const UnitTable t = read_unit_table(file, {{"time", Quantity::time, false, ""}, {"value", quantity, false, p.unit}},
                                           std::size_t{16} << 20);
-      for (std::size_t k = 0; k < t.rows.size(); ++k) {
-        rows.insert(rows.end(), t.rows[k].begin(), t.rows[k].end());
-        where.push_back(file.string() + ":" + std::to_string(t.lines[k]));
-      }
+      for (const std::vector<double>& row : t.rows) rows.insert(rows.end(), row.begin(), row.end());
+      lines = t.lines;
+      file_name = file.string();
     } catch (const Error& e) {
       return fail(ptr, "unreadable time series", "a CSV file \"time [h], value [" + p.unit + "]\" (docs/boundaries.md)",
                   e.what());
@@ -101,13 +100,14 @@ std::optional<ParamValue> time_series(const json& v, const Param& p, const std::
   // Inline rows are named by their JSON path; a file's by the key that names
   // it, with the file's line.
   const bool from_file = v.is_string();
+  auto at = [&](std::size_t k) { return from_file ? ptr : ptr + "/" + std::to_string(k); };
+  auto line = [&](std::size_t k) { return from_file ? file_name + ":" + std::to_string(lines[k]) + ": " : std::string(); };
   for (std::size_t k = 0; 2 * k < rows.size(); ++k) {
     const double t = rows[2 * k], x = rows[2 * k + 1];
-    const std::string at = from_file ? ptr : where[k], line = from_file ? where[k] + ": " : "";
     if (k > 0 && !(t > rows[2 * k - 2]))
-      return fail(at, "times not increasing", "a time after the previous row's " + format(rows[2 * k - 2]) + " s",
-                  line + format(t) + " s");
-    if (!in_range(p, x)) return fail(at, "value out of range", p.expectation(0), line + format(x));
+      return fail(at(k), "times not increasing", "a time after the previous row's " + format(rows[2 * k - 2]) + " s",
+                  line(k) + format(t) + " s");
+    if (!in_range(p, x)) return fail(at(k), "value out of range", p.expectation(0), line(k) + format(x));
   }
   return ParamValue{rows};
 }
