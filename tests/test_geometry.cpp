@@ -36,6 +36,16 @@ json scene_with(int dim, int cells, const json& bodies) {
   return j;
 }
 
+// A scene's points, as the run makes them (the simulation keeps its own
+// copy of the scene; the registry outlives it).
+struct Seeded {
+  suffuse::Registry registry;
+  std::unique_ptr<suffuse::Simulation> sim;
+  explicit Seeded(const json& j)
+      : sim(std::make_unique<suffuse::Simulation>(suffuse::test::scene_from(j, registry), registry, 1)) {}
+  const suffuse::PointSet& points() const { return sim->points(); }
+};
+
 struct Made {
   double volume = 0;
   std::vector<double> body_volume;
@@ -44,10 +54,8 @@ struct Made {
 
 // The points a scene's bodies make: their volume, in all and by body.
 Made made(const json& j) {
-  suffuse::Registry registry;
-  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
-  suffuse::Simulation sim(scene, registry, 1);
-  const suffuse::PointSet& pts = sim.points();
+  const Seeded seeded(j);
+  const suffuse::PointSet& pts = seeded.points();
   const double* V = pts.data(pts.core().volume);
   const double* id = pts.data(pts.core().material_id);
   Made m;
@@ -166,10 +174,8 @@ namespace {
 // Every point's vertical stress against `expected(u, y)`, its horizontal
 // stress against k0 = 0.5 times that (g = 10).
 void expect_vertical_stress(const json& j, const std::function<double(double, double)>& expected, const char* what) {
-  suffuse::Registry registry;
-  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
-  suffuse::Simulation sim(scene, registry, 1);
-  const suffuse::PointSet& pts = sim.points();
+  const Seeded seeded(j);
+  const suffuse::PointSet& pts = seeded.points();
   const double* x = pts.data(pts.core().position);
   const double* s = pts.data(pts.core().stress);
   std::size_t wrong = 0;
@@ -210,6 +216,20 @@ TEST(Geometry, GeostaticStressUnderASlopingSurfaceIsTheWeightAbove) {
   EXPECT_GT(under_slope, 100u);
 }
 
+// A body whose file (under `key`) is refused: one error, at that key, whose
+// found text says `says` (the file and its line).
+void expect_file_refused(const char* key, const fs::path& file, const std::string& says) {
+  suffuse::Registry registry;
+  try {
+    suffuse::test::scene_from(scene_with(2, 10, json::array({{{"material", "soil"}, {key, file.string()}}})), registry);
+    ADD_FAILURE() << file << " accepted";
+  } catch (const suffuse::SceneError& e) {
+    ASSERT_EQ(e.diagnostics().size(), 1u) << file;
+    EXPECT_EQ(e.diagnostics()[0].pointer, std::string("/bodies/0/") + key);
+    EXPECT_NE(e.diagnostics()[0].found.find(says), std::string::npos) << e.diagnostics()[0].found;
+  }
+}
+
 // A polygon file that cannot be read is reported at the key that names it,
 // with the file's line: units missing, rings out of order.
 TEST(Geometry, BadPolygonFilesAreNamedWithTheirLine) {
@@ -217,21 +237,9 @@ TEST(Geometry, BadPolygonFilesAreNamedWithTheirLine) {
   fs::create_directories(dir);
   std::ofstream(dir / "no_units.csv") << "x, y\n0.1, 0.1\n0.9, 0.1\n0.5, 0.8\n";
   std::ofstream(dir / "rings.csv") << "x [m], y [m], ring\n0.1, 0.1, 0\n0.9, 0.1, 0\n0.5, 0.8, 0\n0.4, 0.2, 2\n";
-  for (const auto& [file, says] : {std::pair<const char*, const char*>{"no_units.csv", "no_units.csv:1: unit missing or unknown"},
-                                   {"rings.csv", "rings.csv:5: rings out of order"}}) {
-    const json j = scene_with(2, 10, json::array({{{"material", "soil"}, {"polygon_file", (dir / file).string()}}}));
-    suffuse::Registry registry;
-    try {
-      suffuse::test::scene_from(j, registry);
-      ADD_FAILURE() << file << " accepted";
-    } catch (const suffuse::SceneError& e) {
-      ASSERT_EQ(e.diagnostics().size(), 1u) << file;
-      EXPECT_EQ(e.diagnostics()[0].pointer, "/bodies/0/polygon_file");
-      EXPECT_NE(e.diagnostics()[0].found.find(says), std::string::npos) << e.diagnostics()[0].found;
-    }
-  }
+  expect_file_refused("polygon_file", dir / "no_units.csv", "no_units.csv:1: unit missing or unknown");
+  expect_file_refused("polygon_file", dir / "rings.csv", "rings.csv:5: rings out of order");
 }
-
 
 // Bodies that overlap, drawn as simple shapes: a clay lens drawn first and
 // the sand box around it, and a fill with a culvert in its hole. Up the
@@ -293,10 +301,8 @@ TEST(Geometry, PointsFromAFile) {
                                        "55, 60, 0.0001\n90, 90, 0.0016\n";
   const json box = {{"material", "clay"}, {"min", {0.5, 0.5}}, {"max", {1.0, 1.0}}};
   const json from_file = {{"material", "soil"}, {"points_file", (dir / "points.csv").string()}};
-  suffuse::Registry registry;
-  const suffuse::Scene scene = suffuse::test::scene_from(scene_with(2, 10, json::array({box, from_file})), registry);
-  suffuse::Simulation sim(scene, registry, 1);
-  const suffuse::PointSet& pts = sim.points();
+  const Seeded seeded(scene_with(2, 10, json::array({box, from_file})));
+  const suffuse::PointSet& pts = seeded.points();
   const std::size_t first = pts.size() - 2;  // the box's points, then the file's two outside it
   const double* x = pts.data(pts.core().position);
   const double* V = pts.data(pts.core().volume);
@@ -312,17 +318,7 @@ TEST(Geometry, PointsFromAFile) {
   std::ofstream(dir / "negative.csv") << "x [m], y [m], volume [m^2]\n0.1, 0.1, 0.001\n0.2, 0.2, 0\n";
   std::ofstream(dir / "outside.csv") << "x [m], y [m], volume [m^2]\n0.1, 0.1, 0.001\n1.2, 0.2, 0.001\n";
   std::ofstream(dir / "unit.csv") << "x [m], y [m], volume [m^3]\n0.1, 0.1, 0.001\n";
-  for (const auto& [file, says] : {std::pair<const char*, const char*>{"negative.csv", "negative.csv:3: volume not positive"},
-                                   {"outside.csv", "outside.csv:3: point outside the grid"},
-                                   {"unit.csv", "unit.csv:1: unit missing or unknown"}}) {
-    try {
-      suffuse::test::scene_from(scene_with(2, 10, json::array({{{"material", "soil"}, {"points_file", (dir / file).string()}}})),
-                                registry);
-      ADD_FAILURE() << file << " accepted";
-    } catch (const suffuse::SceneError& e) {
-      ASSERT_EQ(e.diagnostics().size(), 1u) << file;
-      EXPECT_EQ(e.diagnostics()[0].pointer, "/bodies/0/points_file");
-      EXPECT_NE(e.diagnostics()[0].found.find(says), std::string::npos) << e.diagnostics()[0].found;
-    }
-  }
+  expect_file_refused("points_file", dir / "negative.csv", "negative.csv:3: volume not positive");
+  expect_file_refused("points_file", dir / "outside.csv", "outside.csv:3: point outside the grid");
+  expect_file_refused("points_file", dir / "unit.csv", "unit.csv:1: unit missing or unknown");
 }

@@ -47,7 +47,6 @@ struct BodySpec {
   // (points_per_cell per cell and axis), those whose centre is inside.
   std::optional<Polygon> polygon;
   int extrusion_axis = 2;
-  std::string shape_source;  // the polygon's or the points' file, or its JSON pointer when inline
   // A body of points read from a file (docs/geometry.md): each point's
   // position and volume, row after row (dim + 1 values); it has no shape.
   std::vector<double> points;

@@ -25,6 +25,14 @@ bool within_extrusion(const BodySpec& body, const double* x, int dim) {
   return dim == 2 || (x[e] >= body.min[e] && x[e] < body.max[e]);
 }
 
+// Whether a position lies inside the box from min (included) to max
+// (excluded): a box body's shape.
+bool within_bounds(const BodySpec& body, const double* x, int dim) {
+  for (int a = 0; a < dim; ++a)
+    if (x[a] < body.min[a] || x[a] >= body.max[a]) return false;
+  return true;
+}
+
 }  // namespace
 
 bool shape_contains(const BodySpec& body, const double* x, int dim) {
@@ -35,11 +43,6 @@ bool shape_contains(const BodySpec& body, const double* x, int dim) {
   return polygon_contains(*body.polygon, x[p[0]], x[p[1]]);
 }
 
-bool within_bounds(const BodySpec& body, const double* x, int dim) {
-  for (int a = 0; a < dim; ++a)
-    if (x[a] < body.min[a] || x[a] >= body.max[a]) return false;
-  return true;
-}
 
 bool near_bounds(const BodySpec& body, const double* x, int dim) {
   for (int a = 0; a < dim; ++a) {

@@ -15,9 +15,6 @@ namespace suffuse::detail {
 // body of points from a file, which has no shape.
 bool shape_contains(const BodySpec& body, const double* x, int dim);
 
-// Whether a position lies inside the box from min (included) to max
-// (excluded): a box body's shape.
-bool within_bounds(const BodySpec& body, const double* x, int dim);
 // Whether a position may lie in the shape: within the box that holds it,
 // widened by round-off (a polygon's inside test may put a point one ulp
 // past its tip inside); a cheap test before shape_contains.

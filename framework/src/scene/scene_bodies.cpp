@@ -94,7 +94,7 @@ void read_fines(SceneReader& r, const Parameters& b, const std::string& ptr, Bod
 
 // A polygon's rings from the scene (inline) or its file; problems reported
 // at the key that gives them.
-std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const std::string& ptr, std::string& source) {
+std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const std::string& ptr) {
   Polygon polygon;
   auto ring_of = [](const std::vector<double>& flat) {
     Polygon::Ring ring;
@@ -106,7 +106,6 @@ std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const s
     at = ptr + "/polygon_file";
     std::filesystem::path file = b.string("polygon_file");
     if (file.is_relative()) file = r.base_dir / file;
-    source = file.string();
     try {
       const std::vector<UnitColumn> columns = {
           {"x", Quantity::length, false, ""}, {"y", Quantity::length, false, ""}, {"ring", Quantity::count, true, ""}};
@@ -127,7 +126,6 @@ std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const s
       return std::nullopt;
     }
   } else {
-    source = at;
     polygon.outer = ring_of(b.vector("polygon"));
     if (b.has("holes"))
       for (const std::vector<double>& hole : b.tables("holes")) polygon.holes.push_back(ring_of(hole));
@@ -154,7 +152,6 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
     }
   std::filesystem::path file = b.string("points_file");
   if (file.is_relative()) file = r.base_dir / file;
-  body.shape_source = file.string();
   const int D = r.dim;
   try {
     std::vector<UnitColumn> columns;
@@ -228,7 +225,7 @@ void read_shape(SceneReader& r, const Scene& scene, const Parameters& b, const s
   std::vector<int> box_axes;  // the axes whose extent min and max give
   for (int a = 0; a < r.dim; ++a) box_axes.push_back(a);
   if (polygon) {
-    const std::optional<Polygon> read = read_polygon(r, b, ptr, body.shape_source);
+    const std::optional<Polygon> read = read_polygon(r, b, ptr);
     if (!read) return;
     body.polygon = read;
     body.extrusion_axis = extruded ? b.string("extrusion_axis")[0] - 'x' : 2;
