@@ -241,7 +241,7 @@ TEST(SceneValidation, UnknownBoundaryConditionPlugin) {
   const std::string at = boundary_condition_pointer(j, right_roller);
   boundary_condition(j, right_roller)["type"] = "bc/pressure_head";
   expect_diagnostics(j, {{at + "/type", kUnknownPlugin,
-                          "a boundary condition plugin, one of {bc/inflow_flux, bc/pore_pressure, bc/traction, bc/velocity}", "\"bc/pressure_head\"",
+                          "a boundary condition plugin, one of {bc/inflow_flux, bc/pore_pressure, bc/traction, bc/velocity, bc/water_level}", "\"bc/pressure_head\"",
                           "core"}});
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Boundary conditions act on sets of grid nodes at named stages of the step,
 // and may act through material points (a load carried by a body's surface).
+#include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -15,6 +17,19 @@ namespace suffuse {
 struct LiquidOpening {
   GridFace face;
   double concentration = 0;  // volume of fines / volume of liquid entering [-]
+};
+
+// Still water outside the bodies (a river, a ditch, a flood over the
+// ground), its surface at `level`: on the bodies' surface below it the
+// water presses gamma_w (level - elevation), on the skeleton and on the pore
+// liquid, along the stretch [from, to] of the first axis (x). The core
+// integrates that pressure over the bodies (docs/boundaries.md, Water
+// levels); the condition only says where the water stands, when.
+struct StandingWater {
+  double level = 0;          // elevation of the water's surface (y in 2D, z in 3D) [m]
+  double unit_weight = 0;    // gamma_w [N/m^3]
+  double from = -std::numeric_limits<double>::infinity();  // the stretch along x where it stands [m]
+  double to = std::numeric_limits<double>::infinity();
 };
 
 // Factor of a load ramped linearly from zero at t = 0 to its full value at
@@ -39,6 +54,9 @@ class BoundaryCondition {
   virtual void constrain_velocity(const GridGeometry& grid, NodeState& nodes, double time) const {
     (void)grid; (void)nodes; (void)time;
   }
+  // The water this condition stands on the bodies at `time`, if it is a
+  // water level (default: none). Called once per step, before the loads.
+  virtual std::optional<StandingWater> standing_water(double time) const { (void)time; return std::nullopt; }
   // The faces this condition opens to the liquid (default: none).
   virtual std::vector<LiquidOpening> liquid_openings() const { return {}; }
   // Once, after the material points are created and before the first step.

@@ -40,6 +40,7 @@ class GridProjection;
 class StepGuard;
 class QuasiStatic;
 class PointOrder;
+class StandingWaterLoad;
 }  // namespace detail
 
 // The stages of a step, in order, and the writing of outputs.
@@ -214,6 +215,7 @@ class Simulation {
   void step_quasi_static();
   void create_bodies();
   std::vector<double> unit_weights() const;
+  void refuse_or_keep_standing_water();
   void apply_loads(NodeState& nodes, double time);  // boundary conditions' external forces
   // The points the conditions that load points read (serial numbers), or
   // every point if one of them does not say (BoundaryCondition::loaded_points).
@@ -258,6 +260,7 @@ class Simulation {
   std::unique_ptr<detail::DryMomentum> dry_;           // dry runs
   detail::MomentumBalance* momentum_ = nullptr;        // the one of the two this run has
   std::unique_ptr<detail::SpeciesTransport> species_;  // saturated runs
+  std::unique_ptr<detail::StandingWaterLoad> water_;   // saturated runs with water levels
   std::vector<std::unique_ptr<Writer>> writers_;
   std::unique_ptr<detail::GridProjection> grid_projection_;  // for writers of grid fields
   std::unique_ptr<detail::StepGuard> guard_;                 // stops a run that blew up

@@ -28,6 +28,11 @@ class NamedCondition final : public BoundaryCondition {
   void constrain_velocity(const GridGeometry& grid, NodeState& nodes, double time) const override {
     named([&] { condition_->constrain_velocity(grid, nodes, time); });
   }
+  std::optional<StandingWater> standing_water(double time) const override {
+    std::optional<StandingWater> water;
+    named([&] { water = condition_->standing_water(time); });
+    return water;
+  }
   std::vector<LiquidOpening> liquid_openings() const override { return condition_->liquid_openings(); }
   void setup_points(const GridGeometry& grid, const PointSet& points) override {
     condition_->setup_points(grid, points);

@@ -15,6 +15,7 @@
 #include "run/named_condition.hpp"
 #include "run/step_guard.hpp"
 #include "mpm/materials.hpp"
+#include "mixture/standing_water.hpp"
 #include "quasi_static/quasi_static.hpp"
 #include "mpm/reactions.hpp"
 #include "mixture/saturated_mixture.hpp"
@@ -85,7 +86,9 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
     mixture_ = std::make_unique<detail::SaturatedMixture>(scene, registry, *domain_, materials_->phases());
     species_ = std::make_unique<detail::SpeciesTransport>(scene, registry, *domain_, *mixture_, bcs_);
     momentum_ = mixture_.get();
-  } else {
+  }
+  refuse_or_keep_standing_water();
+  if (!scene.saturated()) {
     dry_ = std::make_unique<detail::DryMomentum>(*domain_, scene.gravity, scene.damping, scene.mass_scaling);
     momentum_ = dry_.get();
   }
@@ -249,7 +252,30 @@ void Simulation::timed(Stage stage, Work&& work) {
   }
 }
 
+// Water levels (bc/water_level) press on saturated bodies in explicit runs.
+void Simulation::refuse_or_keep_standing_water() {
+  std::vector<const BoundaryCondition*> conditions;
+  std::vector<std::string> names;
+  for (std::size_t b = 0; b < bcs_.size(); ++b) {
+    conditions.push_back(bcs_[b].get());
+    names.push_back(scene_.boundary_conditions[b].pointer + " (" + scene_.boundary_conditions[b].type + ")");
+  }
+  auto water = std::make_unique<detail::StandingWaterLoad>(conditions, names);
+  if (!water->any()) return;
+  const std::string& first = names[static_cast<std::size_t>(
+      std::find_if(conditions.begin(), conditions.end(), [](const BoundaryCondition* c) { return c->standing_water(0.0).has_value(); }) -
+      conditions.begin())];
+  if (!scene_.saturated())
+    throw Error(first + ": a water level presses on saturated bodies and feeds their pores; expected a body with "
+                "\"liquid\", found dry bodies only");
+  if (scene_.integration == TimeIntegration::quasi_static)
+    throw Error(first + ": water levels act in explicit runs so far; expected /time/integration \"explicit\", "
+                "found \"quasi_static\"");
+  water_ = std::move(water);
+}
+
 void Simulation::apply_loads(NodeState& nodes, double time) {
+  if (water_) water_->add_forces(*domain_, mixture_->fields(), nodes, time);
   // On many processes a condition that loads points reads every point, in
   // the serial run's numbering, on every process (gathered once per step):
   // each process adds the serial run's forces to its whole grid.
