@@ -95,7 +95,8 @@ void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupport
 }  // namespace
 
 void StandingWaterLoad::add_forces(Domain& d, const MixtureFields& f, NodeState& n, double time) {
-  const WaterProfile water = profile(time);
+  current_ = profile(time);
+  const WaterProfile& water = *current_;
   const int dim = d.dim();
   d.clear_nodal(block_, 2 * static_cast<std::size_t>(dim));
   const PointSet& pts = d.points;

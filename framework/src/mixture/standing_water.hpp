@@ -50,11 +50,15 @@ class StandingWaterLoad {
   // Adds the water's pressure on the bodies' surface to the mixture's and
   // the liquid's forces of `nodes` at `time`.
   void add_forces(Domain& d, const MixtureFields& f, NodeState& nodes, double time);
+  // The profile add_forces last used: the level of this step's loads (the
+  // transport lets water in below it).
+  const WaterProfile& current() const { return *current_; }
 
  private:
   std::vector<const BoundaryCondition*> conditions_;
   std::vector<std::string> names_;
-  std::vector<double> block_;  // per node, the force's D components
+  std::vector<double> block_;  // per node, the mixture's then the liquid's force, D components each
+  std::optional<WaterProfile> current_;
 };
 
 }  // namespace suffuse::detail

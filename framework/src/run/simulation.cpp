@@ -272,6 +272,7 @@ void Simulation::refuse_or_keep_standing_water() {
     throw Error(first + ": water levels act in explicit runs so far; expected /time/integration \"explicit\", "
                 "found \"quasi_static\"");
   water_ = std::move(water);
+  species_->set_standing_water(water_.get());
 }
 
 void Simulation::apply_loads(NodeState& nodes, double time) {

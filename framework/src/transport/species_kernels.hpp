@@ -213,6 +213,12 @@ struct TransportGrid {
   const double* inflow_liquid;
   const double* inflow_fines;
   const double* inflow_carrying;
+  // Per node: 1 where still water stands above it this step (a water level,
+  // bc/water_level), whose clean water (inflow_water per volume) enters
+  // through the node's free-surface faces where the flux points in; null
+  // without water levels.
+  const char* submerged = nullptr;
+  double inflow_water = 0;
 };
 
 // What the exchange reads of each node, formed once per node rather than at
@@ -283,6 +289,20 @@ struct Transport {
       if (c[a] < g.nodes[a] - 1 && g.pore[I + stride(a)] <= 0)
         sum += std::max(0.0, g.dt * face_area(c, a) * darcy(I, a));
       if (c[a] > 0 && g.pore[I - stride(a)] <= 0) sum += std::max(0.0, -g.dt * face_area(c, a) * darcy(I, a));
+    }
+    return sum;
+  }
+
+  // Volume entering node I through its free-surface faces from still water
+  // standing over it (none where no water stands: the drained surface lets
+  // liquid out only).
+  double submerged_inflow_volume(std::int64_t I, const std::array<int, 3>& c) const {
+    if (!g.submerged || !g.submerged[I] || g.pore[I] <= 0) return 0.0;
+    double sum = 0;
+    for (int a = 0; a < D; ++a) {
+      if (c[a] < g.nodes[a] - 1 && g.pore[I + stride(a)] <= 0)
+        sum += std::max(0.0, -g.dt * face_area(c, a) * darcy(I, a));
+      if (c[a] > 0 && g.pore[I - stride(a)] <= 0) sum += std::max(0.0, g.dt * face_area(c, a) * darcy(I, a));
     }
     return sum;
   }
@@ -383,9 +403,12 @@ struct Transport {
   double ratio(const double* amount, std::size_t I) const { return g.liquid[I] > 0 ? amount[I] / g.liquid[I] : 0.0; }
 
   // Pass 4: net change of liquid, fines and carrying liquid at each node from
-  // its interior faces. Also writes what each node loses through free surfaces.
+  // its interior faces. Also writes what each node loses through free
+  // surfaces, and the clean water it takes in through them from still water
+  // (free_water_in, written only where g.submerged is given).
   void exchange(std::size_t begin, std::size_t end, const NodeShares& s, double* d_liquid, double* d_fines,
-                double* d_carrying, double* free_liquid, double* free_fines, double* free_carrying) const {
+                double* d_carrying, double* free_liquid, double* free_fines, double* free_carrying,
+                double* free_water_in = nullptr) const {
     for_nodes(begin, end, [&](std::size_t n, const std::array<int, 3>& c) {
       const auto I = static_cast<std::int64_t>(n);
       double dl = 0, df = 0, dc = 0;
@@ -415,6 +438,10 @@ struct Transport {
         dc -= free_carrying[n];
       } else {
         free_liquid[n] = free_fines[n] = free_carrying[n] = 0;
+      }
+      if (g.submerged) {
+        free_water_in[n] = g.inflow_water * submerged_inflow_volume(I, c);
+        dl += free_water_in[n];
       }
       d_liquid[n] = dl;
       d_fines[n] = df;

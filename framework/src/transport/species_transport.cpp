@@ -116,6 +116,7 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
   double rho_s = 0, rho_w = 0;
   for (const BodySpec& b : scene.bodies)
     if (b.liquid && rho_w == 0) rho_s = mixture.grain_density(b.material), rho_w = mixture.liquid(*b.liquid).density();
+  clean_water_density_ = rho_w;
   const int dim = d_.dim();
   inflow_liquid_.assign(d_.grid.node_count() * dim, std::numeric_limits<double>::quiet_NaN());
   inflow_fines_ = inflow_liquid_;
@@ -226,7 +227,8 @@ void SpeciesTransport::explicit_stage(double dt, const double* liquid, const dou
   const int dim = d_.dim();
   const TransportGrid g{d_.grid.nodes_per_axis(), d_.grid.cell_size(), dt, node_pore_.data(), liquid,
                         fines ? fines_at : nullptr, fines ? carrying_at : nullptr, node_darcy_.data(),
-                        node_face_.data(), inflow_liquid_.data(), inflow_fines_.data(), inflow_carrying_.data()};
+                        node_face_.data(), inflow_liquid_.data(), inflow_fines_.data(), inflow_carrying_.data(),
+                        water_ ? node_submerged_.data() : nullptr, clean_water_density_};
   auto run = [&](auto transport) {
     d_.for_nodes([&](int, std::size_t b, std::size_t e) { transport.faces(b, e); });
     d_.for_nodes([&](int, std::size_t b, std::size_t e) { transport.outflow(b, e, node_out_.data()); });
@@ -242,16 +244,18 @@ void SpeciesTransport::explicit_stage(double dt, const double* liquid, const dou
     d_.for_nodes([&](int, std::size_t b, std::size_t e) { transport.flows(b, e, shares); });
     d_.for_nodes([&](int, std::size_t b, std::size_t e) {
       transport.exchange(b, e, shares, node_dliquid_.data(), node_dfines_.data(), node_dcarrying_.data(),
-                         node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data());
+                         node_free_liquid_.data(), node_free_fines_.data(), node_free_carrying_.data(),
+                         node_free_water_in_.data());
     });
     // What crossed each account this step, summed in node order (independent
     // of the chunking and of the processes): out, in of liquid; out, in of fines.
-    const Domain::NodeTerms free = d_.node_sums(2, [&](std::size_t I, double* t) {
+    const Domain::NodeTerms free = d_.node_sums(water_ ? 3 : 2, [&](std::size_t I, double* t) {
       t[0] = node_free_liquid_[I];
       t[1] = node_free_fines_[I];
-      return t[0] != 0 || t[1] != 0;
+      if (water_) t[2] = node_free_water_in_[I];
+      return t[0] != 0 || t[1] != 0 || (water_ && t[2] != 0);
     });
-    step.back() = {free[0], 0, free[1], 0};
+    step.back() = {free[0], water_ ? free[2] : 0.0, free[1], 0};
     for (std::size_t k = 0; k < openings_.size(); ++k) {
       Opening& o = openings_[k];  // the free surfaces' account is the last
       for (std::size_t i = 0; i < o.nodes.size(); ++i) {
@@ -297,7 +301,23 @@ void SpeciesTransport::discharge(std::size_t I, double share, const double* liqu
   account[2] += fines_out;
 }
 
+void SpeciesTransport::set_standing_water(const StandingWaterLoad* water) {
+  water_ = water;
+  node_submerged_.assign(d_.grid.node_count(), 0);
+  node_free_water_in_.assign(d_.grid.node_count(), 0.0);
+}
+
 void SpeciesTransport::transport(double dt, TransportScheme scheme) {
+  if (water_) {  // the nodes still water stands above, this step
+    const WaterProfile& water = water_->current();
+    const int dim = d_.dim();
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) {
+      for (std::size_t I = b; I < e; ++I) {
+        const auto x = d_.grid.node_position(static_cast<std::int64_t>(I));
+        node_submerged_[I] = x[dim - 1] < water.level(x[0]).first;
+      }
+    });
+  }
   PointSet& pts = d_.points;
   const double* V = pts.data(pts.core().volume);
   const double* n = pts.data(m_.porosity);

@@ -12,6 +12,7 @@
 
 #include "mpm/domain.hpp"
 #include "mixture/saturated_mixture.hpp"
+#include "mixture/standing_water.hpp"
 #include "suffuse/boundary_condition.hpp"
 #include "suffuse/erosion_law.hpp"
 #include "suffuse/mass_ledger.hpp"
@@ -62,6 +63,10 @@ class SpeciesTransport {
   // Stage "erosion": each material's erosion law, applied at the points.
   // Returns whether any point eroded or deposited.
   bool erode(double dt);
+  // Water levels (bc/water_level): their clean water enters the bodies
+  // through free surfaces below the level, at the level of the step's
+  // loads (StandingWaterLoad::add_forces). Explicit transport steps only.
+  void set_standing_water(const StandingWaterLoad* water);
   // Stage "transport": liquid and suspended fines across the grid.
   void transport(double dt, TransportScheme scheme = TransportScheme::forward_euler);
   // Largest change over the last transport of a node's composition (over
@@ -152,6 +157,13 @@ class SpeciesTransport {
   // amount held and per pore volume (share_block, g2p_share).
   std::vector<double> species_block_, share_block_;
   std::unique_ptr<DistributedSystem> implicit_system_;  // the backward-Euler step's, on many processes
+  // Still water on the bodies (set_standing_water): per node, whether it
+  // stands above it this step, and the clean water each node took in
+  // through its free-surface faces; the density of that water.
+  const StandingWaterLoad* water_ = nullptr;
+  std::vector<char> node_submerged_;
+  std::vector<double> node_free_water_in_;
+  double clean_water_density_ = 0;
 };
 
 }  // namespace suffuse::detail
