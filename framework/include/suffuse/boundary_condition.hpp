@@ -4,6 +4,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "suffuse/grid.hpp"
@@ -11,12 +12,16 @@
 
 namespace suffuse {
 
-// A grid face the pore liquid may cross (a drained face, a seepage inlet or
-// outlet). Every other boundary is impermeable to the transport of the liquid
-// and its suspended fines. Liquid entering carries `concentration` of fines.
+// A grid face, or a part of one, the pore liquid may cross (a drained face,
+// a seepage inlet or outlet, a toe drain). Every other boundary of the grid
+// is impermeable to the transport of the liquid and its suspended fines.
+// Liquid entering carries `concentration` of fines. The mass ledger books
+// what crosses it under `name` (default: the face's name).
 struct LiquidOpening {
   GridFace face;
-  double concentration = 0;  // volume of fines / volume of liquid entering [-]
+  double concentration = 0;          // volume of fines / volume of liquid entering [-]
+  std::vector<std::int64_t> nodes;   // the face's nodes it opens (grid_face.hpp's face_nodes); empty: all
+  std::string name;                  // its account in the ledger; empty: the face's name
 };
 
 // Still water outside the bodies (a river, a ditch, a flood over the

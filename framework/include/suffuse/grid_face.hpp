@@ -3,6 +3,7 @@
 // left/right (x = min/max), bottom/top (y), front/back (z, 3D only).
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,14 @@ std::optional<GridFace> grid_face(const std::string& name);
 std::optional<ParameterIssue> grid_face_issue(const std::string& key, const std::string& name, int dim);
 // Indices of the grid nodes on a face, in increasing order.
 std::vector<std::int64_t> face_nodes(const GridGeometry& grid, GridFace face);
+// A part of a face: its nodes within the box from box_min to box_max (the
+// components along the face's normal are not read), in increasing order.
+std::vector<std::int64_t> face_nodes(const GridGeometry& grid, GridFace face, std::span<const double> box_min,
+                                     std::span<const double> box_max);
+// For a plugin's check(): the optional keys box_min and box_max of a part of
+// a face, both or neither, the box not empty.
+std::vector<ParameterIssue> face_part_issues(const Parameters& p, int dim);
+
 // Tributary length (2D) or area (3D) of a node of the face: a cell size per
 // axis along the face, half of it where the node is at the end of that axis.
 // The areas of a face's nodes sum to the face's length or area.

@@ -27,6 +27,33 @@ std::vector<std::int64_t> face_nodes(const GridGeometry& grid, GridFace face) {
   return nodes;
 }
 
+std::vector<std::int64_t> face_nodes(const GridGeometry& grid, GridFace face, std::span<const double> box_min,
+                                     std::span<const double> box_max) {
+  const double tol = 1e-9 * grid.min_cell_size();
+  std::vector<std::int64_t> part;
+  for (const std::int64_t I : face_nodes(grid, face)) {
+    const auto x = grid.node_position(I);
+    bool in = true;
+    for (int a = 0; a < grid.dim(); ++a)
+      if (a != face.axis) in = in && x[a] >= box_min[a] - tol && x[a] <= box_max[a] + tol;
+    if (in) part.push_back(I);
+  }
+  return part;
+}
+
+std::vector<ParameterIssue> face_part_issues(const Parameters& p, int dim) {
+  if (p.has("box_min") != p.has("box_max"))
+    return {{p.has("box_min") ? "box_max" : "box_min", "missing box corner", "both box_min and box_max", "only one"}};
+  if (!p.has("box_min")) return {};
+  const auto& lo = p.vector("box_min");
+  const auto& hi = p.vector("box_max");
+  for (int a = 0; a < dim; ++a)
+    if (lo[a] > hi[a])
+      return {{"box_max", "empty box", "box_max >= box_min in every component",
+               "box_max[" + std::to_string(a) + "] < box_min[" + std::to_string(a) + "]"}};
+  return {};
+}
+
 double face_node_area(const GridGeometry& grid, GridFace face, std::int64_t node) {
   return dual_face_area(grid.nodes_per_axis(), grid.cell_size(), grid.node_ijk(node), face.axis, grid.dim());
 }

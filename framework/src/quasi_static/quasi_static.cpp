@@ -201,7 +201,7 @@ void QuasiStatic::prepare(double time, double dt) {
   for (const auto& bc : bcs_)
     for (const LiquidOpening& opening : bc->liquid_openings()) {
       const GridFace f = opening.face;
-      for (const std::int64_t I : face_nodes(d_.grid, f)) {
+      for (const std::int64_t I : opening.nodes.empty() ? face_nodes(d_.grid, f) : opening.nodes) {
         if (node_pore_[I] <= 0) continue;
         const std::size_t k = static_cast<std::size_t>(I) * dim + f.axis;
         const double area = face_node_area(d_.grid, f, I);

@@ -125,14 +125,28 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
   for (std::size_t b = 0; b < bcs.size(); ++b) {
     for (const LiquidOpening& o : bcs[b]->liquid_openings()) {
       const std::string& pointer = scene.boundary_conditions[b].pointer;
-      for (std::size_t k = 0; k < openings_.size(); ++k)
-        if (openings_[k].face.axis == o.face.axis && openings_[k].face.upper == o.face.upper)
-          throw Error(pointer + " and " + opened_by[k] + " both open the " + discharge_[k].face +
-                      " face of the grid to the liquid; its outflow would be counted twice: keep one bc/pore_pressure "
-                      "or bc/inflow_flux per face");
+      const std::string face_name = grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)];
+      const std::string name = o.name.empty() ? face_name : o.name;
+      const std::vector<std::int64_t> nodes = o.nodes.empty() ? face_nodes(d_.grid, o.face) : o.nodes;
+      if (name == "free_surface")
+        throw Error(pointer + "/name: 'free_surface' is the ledger's account of the bodies' free surfaces; expected "
+                    "another name, found \"free_surface\"");
+      for (std::size_t k = 0; k < openings_.size(); ++k) {
+        const std::vector<std::int64_t>& other = openings_[k].ids;
+        const bool shared = openings_[k].face.axis == o.face.axis && openings_[k].face.upper == o.face.upper &&
+                            std::find_first_of(nodes.begin(), nodes.end(), other.begin(), other.end()) != nodes.end();
+        if (shared)
+          throw Error(pointer + " and " + opened_by[k] + " both open " +
+                      (o.nodes.empty() ? "the " + face_name + " face" : "nodes of the " + face_name + " face") +
+                      " of the grid to the liquid; its outflow would be counted twice: keep one bc/pore_pressure "
+                      "or bc/inflow_flux per face, or give each a part of it apart (box_min, box_max)");
+        if (discharge_[k].face == name)
+          throw Error(pointer + " and " + opened_by[k] + " both book what crosses them as '" + name +
+                      "' in the mass ledger; expected a \"name\" for each part of a face, found the same name");
+      }
       opened_by.push_back(pointer);
       Opening opening{o.face, {}, {}, {}};
-      for (std::int64_t I : face_nodes(d_.grid, o.face)) {
+      for (std::int64_t I : nodes) {
         opening.nodes.push_back({I, face_node_area(d_.grid, o.face, I)});
         opening.ids.push_back(I);
         const std::size_t k = static_cast<std::size_t>(I) * dim + o.face.axis;
@@ -140,7 +154,7 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
         inflow_fines_[k] = o.concentration * rho_s;
         inflow_carrying_[k] = o.concentration > 0 ? inflow_liquid_[k] : 0.0;  // carries fines, or clean
       }
-      discharge_.push_back({grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)], 0, 0, 0, 0});
+      discharge_.push_back({name, 0, 0, 0, 0});
       opening.crossed.resize(opening.nodes.size());
       openings_.push_back(std::move(opening));
     }
