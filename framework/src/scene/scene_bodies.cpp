@@ -2,6 +2,7 @@
 // their initial state.
 #include "geometry/polygon.hpp"
 #include "common/unit_table.hpp"
+#include "geometry/surface.hpp"
 #include "scene/scene_reader.hpp"
 
 namespace suffuse::detail {
@@ -30,6 +31,10 @@ ParameterSchema body_schema() {
       "A body of points generated elsewhere, instead of a shape: a CSV file relative to the scene, a header with "
       "units (\"x [m], y [m], volume [m^2]\" in 2D, \"x [m], y [m], z [m], volume [m^3]\" in 3D; lengths in m, cm or "
       "mm) and a row per point (docs/geometry.md)");
+  s.string("surface_file").may_be_absent().doc(
+      "3D: a body inside a closed triangulated surface, instead of a shape: an STL or VTK .vtp file relative to "
+      "the scene, lengths in metres; the points of the grid's lattice (points_per_cell per cell and axis) inside "
+      "it, as a body of points: no k0, no shape for later bodies (docs/geometry.md)");
   s.choice("extrusion_axis", {"x", "y", "z"}).may_be_absent().doc(
       "3D polygon bodies: the axis the polygon is extruded along, between min and max of that axis");
   s.integer("points_per_cell").with_unit("-").at_least(1).at_most(8).fallback(2LL).doc(
@@ -142,7 +147,7 @@ std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const s
 // A body of points from a file: positions in the grid, volumes above zero.
 void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
   const std::string at = ptr + "/points_file";
-  for (const char* key : {"min", "max", "polygon", "polygon_file", "holes", "extrusion_axis", "k0"})
+  for (const char* key : {"min", "max", "polygon", "polygon_file", "holes", "extrusion_axis", "surface_file", "k0"})
     if (b.has(key)) {
       r.error(ptr + "/" + key, std::string(key) == "k0" ? "k0 on a body of points" : "a points file and a shape",
               std::string(key) == "k0" ? "no k0: the initial stress of a body without a shape is its \"stress\""
@@ -182,10 +187,49 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
   }
 }
 
+// A 3D body inside a closed surface: its points seeded now on the grid's
+// lattice (the surface module, geometry/surface.hpp), then a body of points.
+void read_surface(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
+  const std::string at = ptr + "/surface_file";
+  if (r.dim != 3) {
+    r.error(at, "a surface in 2D", "surface_file in 3D scenes (in 2D: a polygon)", b.string("surface_file"), "core (body)");
+    return;
+  }
+  for (const char* key : {"min", "max", "polygon", "polygon_file", "holes", "extrusion_axis", "points_file", "k0"})
+    if (b.has(key)) {
+      r.error(ptr + "/" + key, std::string(key) == "k0" ? "k0 on a body inside a surface" : "a surface and another shape",
+              std::string(key) == "k0" ? "no k0: the initial stress of a body inside a surface is its \"stress\""
+                                       : "either surface_file or a box, polygon or points_file",
+              key, "core (body)");
+      return;
+    }
+  if (!r.grid_ok) return;
+  std::filesystem::path file = b.string("surface_file");
+  if (file.is_relative()) file = r.base_dir / file;
+  SurfaceLattice lattice;
+  for (int a = 0; a < 3; ++a)
+    lattice.origin[a] = scene.grid_origin[a], lattice.cell_size[a] = scene.grid_cell_size[a],
+    lattice.cells[a] = scene.grid_cells[a];
+  lattice.per_cell = static_cast<int>(b.integer("points_per_cell"));
+  try {
+    SurfaceSeeds seeds = seed_surface(file, lattice);
+    body.points = std::move(seeds.points);
+    body.min = seeds.min, body.max = seeds.max;
+  } catch (const Error& e) {
+    body.points.clear();
+    r.error(at, "unusable surface", "a closed surface of triangles within the grid, in an STL or .vtp file",
+            e.what(), "core (body)");
+  }
+}
+
 // The body's shape: a box (min, max) or a polygon; either within the grid.
 void read_shape(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
   if (b.has("points_file")) {
     read_points(r, scene, b, ptr, body);
+    return;
+  }
+  if (b.has("surface_file")) {
+    read_surface(r, scene, b, ptr, body);
     return;
   }
   const bool polygon = b.has("polygon") || b.has("polygon_file");
@@ -201,7 +245,7 @@ void read_shape(SceneReader& r, const Scene& scene, const Parameters& b, const s
   const bool extruded = polygon && r.dim == 3;
   if (!polygon && !(b.has("min") && b.has("max"))) {
     r.error(ptr + (b.has("min") ? "/max" : "/min"), "missing shape",
-            "a box (min and max), a polygon (polygon or polygon_file) or points_file", "nothing", "core (body)");
+            "a box (min and max), a polygon (polygon or polygon_file), points_file or surface_file", "nothing", "core (body)");
     return;
   }
   if (polygon && r.dim == 2 && (b.has("min") || b.has("max"))) {

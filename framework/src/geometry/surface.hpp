@@ -1,0 +1,38 @@
+#pragma once
+// Bodies inside closed triangulated surfaces (3D: STL or VTK .vtp files;
+// docs/geometry.md). VTK reads the file, checks that it is closed and tells
+// which points of the grid's lattice are inside (vtkSelectEnclosedPoints),
+// in a module loaded when a scene has such a body (surface_module.cpp): the
+// core itself never maps VTK's libraries.
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <vector>
+
+namespace suffuse::detail {
+
+// The lattice of a body's points: `per_cell` points per cell and axis of the
+// grid from `origin`, cells of `cell_size`, `cells` of them per axis.
+struct SurfaceLattice {
+  std::array<double, 3> origin{}, cell_size{};
+  std::array<int, 3> cells{};
+  int per_cell = 2;
+};
+
+// What a surface seeds: a row (x, y, z, volume) per lattice point whose
+// centre is inside, and the surface's bounds and triangle count.
+struct SurfaceSeeds {
+  std::vector<double> points;
+  std::array<double, 3> min{}, max{};
+  std::size_t triangles = 0;
+};
+
+// Throws suffuse::Error naming the file: unreadable, not a surface of
+// triangles, open (edges bounding one triangle, or more than two), outside
+// the grid, or holding no lattice point.
+SurfaceSeeds seed_surface(const std::filesystem::path& file, const SurfaceLattice& lattice);
+
+// The module's entry (surface_module.cpp).
+using SeedSurfaceEntry = void(const std::filesystem::path& file, const SurfaceLattice& lattice, SurfaceSeeds& seeds);
+
+}  // namespace suffuse::detail
