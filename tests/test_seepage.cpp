@@ -126,4 +126,9 @@ TEST(Seepage, PartsOfAFaceAreRefusedWhereTheyCannotBeBooked) {
   EXPECT_EQ(refusal(one_name),
             "/boundary_conditions/4 and /boundary_conditions/3 both book what crosses them as 'top' in the mass "
             "ledger; expected a \"name\" for each part of a face, found the same name");
+  json odd_name = confined_flow(0.5);
+  odd_name["boundary_conditions"][4]["name"] = "bottom";
+  EXPECT_EQ(refusal(odd_name),
+            "/boundary_conditions/4/name: not a name for a ledger account; expected letters, digits and '_', other "
+            "than \"free_surface\" and another face's name, found \"bottom\"");
 }

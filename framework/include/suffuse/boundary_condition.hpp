@@ -60,7 +60,9 @@ class BoundaryCondition {
     (void)grid; (void)nodes; (void)time;
   }
   // The water this condition stands on the bodies at `time`, if it is a
-  // water level (default: none). Called once per step, before the loads.
+  // water level (default: none): a value at every time once at t = 0, on the
+  // same stretch and of the same unit weight (its level may change). Asked
+  // at the start and each time the loads are applied.
   virtual std::optional<StandingWater> standing_water(double time) const { (void)time; return std::nullopt; }
   // The faces this condition opens to the liquid (default: none).
   virtual std::vector<LiquidOpening> liquid_openings() const { return {}; }

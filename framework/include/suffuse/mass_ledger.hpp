@@ -8,9 +8,10 @@ namespace suffuse {
 // What crossed one open face of the grid (a LiquidOpening), or left through
 // the free surfaces of the bodies ("free_surface"), cumulative [kg].
 struct BoundaryDischarge {
-  std::string face;
+  std::string face;  // the account's name: its grid face's, a part's own, or "free_surface"
   double liquid_out = 0, liquid_in = 0;  // pore liquid, suspended fines included
   double fines_out = 0, fines_in = 0;    // suspended fines
+  std::string grid_face;  // the grid face it is on (a part's too); empty for the free surfaces
 };
 
 // Mass of every species, in kg (per metre of thickness in 2D). Each balance

@@ -6,6 +6,7 @@
 #include <vtkNew.h>
 #include <vtkOBBTree.h>
 #include <vtkPoints.h>
+#include <vtkPolyDataNormals.h>
 #include <vtkPolyData.h>
 #include <vtkSTLReader.h>
 #include <vtkSelectEnclosedPoints.h>
@@ -60,8 +61,18 @@ vtkSmartPointer<vtkPolyData> read_triangles(const fs::path& file) {
   triangles->SetInputData(data);
   triangles->PassVertsOff();
   triangles->PassLinesOff();
-  triangles->Update();
-  vtkSmartPointer<vtkPolyData> out = triangles->GetOutput();
+  // Triangles turned consistently, outward: the tree's crossings alternate
+  // entering and leaving by the triangles' sense (STL files often hold some
+  // turned the other way).
+  vtkNew<vtkPolyDataNormals> oriented;
+  oriented->SetInputConnection(triangles->GetOutputPort());
+  oriented->ConsistencyOn();
+  oriented->AutoOrientNormalsOn();
+  oriented->SplittingOff();
+  oriented->ComputePointNormalsOff();
+  oriented->ComputeCellNormalsOff();
+  oriented->Update();
+  vtkSmartPointer<vtkPolyData> out = oriented->GetOutput();
   return out;
 }
 
@@ -114,6 +125,7 @@ extern "C" void suffuse_surface_seed(const fs::path& file, const suffuse::detail
   // point by point. A test per point took 30 s for 1.2 million points.
   vtkNew<vtkOBBTree> tree;
   tree->SetDataSet(surface);
+  tree->SetTolerance(1e-9 * spacing[0]);  // absolute (1e-3 by default): far below the lattice
   tree->BuildLocator();
   vtkNew<vtkSelectEnclosedPoints> inside;
   inside->Initialize(surface);

@@ -42,10 +42,11 @@ std::string text(double v) {
 StandingWaterLoad::StandingWaterLoad(const std::vector<const BoundaryCondition*>& conditions,
                                      const std::vector<std::string>& names) {
   for (std::size_t k = 0; k < conditions.size(); ++k)
-    if (conditions[k]->standing_water(0.0)) conditions_.push_back(conditions[k]), names_.push_back(names[k]);
+    if (const auto w = conditions[k]->standing_water(0.0))
+      conditions_.push_back(conditions[k]), names_.push_back(names[k]), first_.push_back(*w);
   for (std::size_t a = 0; a < conditions_.size(); ++a)
     for (std::size_t b = a + 1; b < conditions_.size(); ++b) {
-      const StandingWater wa = *conditions_[a]->standing_water(0.0), wb = *conditions_[b]->standing_water(0.0);
+      const StandingWater &wa = first_[a], &wb = first_[b];
       if (wa.from < wb.to && wb.from < wa.to)
         throw Error(names_[b] + ": its stretch of x [" + text(wb.from) + ", " + text(wb.to) +
                     "] overlaps that of " + names_[a] + " [" + text(wa.from) + ", " +
@@ -59,7 +60,14 @@ StandingWaterLoad::StandingWaterLoad(const std::vector<const BoundaryCondition*>
 
 WaterProfile StandingWaterLoad::profile(double time) const {
   std::vector<StandingWater> stretches;
-  for (const BoundaryCondition* c : conditions_) stretches.push_back(*c->standing_water(time));
+  for (std::size_t k = 0; k < conditions_.size(); ++k) {
+    const std::optional<StandingWater> w = conditions_[k]->standing_water(time);
+    // A condition keeps its stretch and water for the run (checked at the start).
+    if (!w || w->from != first_[k].from || w->to != first_[k].to || w->unit_weight != first_[k].unit_weight)
+      throw Error(names_[k] + ": its water changed at t = " + text(time) + " s; expected a level at every time on "
+                  "the stretch and of the unit weight it had at the start");
+    stretches.push_back(*w);
+  }
   return WaterProfile(std::move(stretches));
 }
 
@@ -67,28 +75,73 @@ namespace {
 
 // -V (grad N p_w + N grad p_w) of each point to its nodes: the mixture's
 // force (every point), then the liquid's (saturated points), 2 D per node.
+// That is the water's pressure on the whole boundary of the bodies, the
+// faces they share with the grid's boundary included; there the grid face's
+// own conditions act (a fixed base, rollers, a prescribed head), so a point
+// whose domain reaches such a face gives its part of that face back:
+// p_w n A_p on the face's nodes, weighted as on the face (1 along the
+// normal, the point's own weights along the face).
 template <int D>
-void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupports& s, const WaterProfile& water,
-                          const double* x, const double* volume, const double* porosity, double* block) {
+void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupports& s, const GridGeometry& grid,
+                          const WaterProfile& water, const double* x, const double* size, const double* volume,
+                          const double* porosity, double* block) {
   const double gamma = water.unit_weight();
+  const auto& cells = grid.cells();
   for (std::size_t p = begin; p < end; ++p) {
     const double* xp = x + p * D;
     const auto [level, slope] = water.level(xp[0]);
     const double depth = level - xp[D - 1];
-    if (!(depth > 0)) continue;  // above the water
-    const double V = volume[p], pw = gamma * depth;
-    double grad_pw[D] = {};
-    grad_pw[0] = gamma * slope;
-    grad_pw[D - 1] += -gamma;
     const bool saturated = porosity[p] > 0;
-    for_each_node<D>(s, p, [&](std::size_t node, double N, const double* grad) {
-      double* o = block + node * 2 * D;
-      for (int i = 0; i < D; ++i) {
-        const double f = -V * (grad[i] * pw + N * grad_pw[i]);
-        o[i] += f;
-        if (saturated) o[D + i] += f;
+    if (depth > 0) {
+      const double V = volume[p], pw = gamma * depth;
+      double grad_pw[D] = {};
+      grad_pw[0] = gamma * slope;
+      grad_pw[D - 1] += -gamma;
+      for_each_node<D>(s, p, [&](std::size_t node, double N, const double* grad) {
+        double* o = block + node * 2 * D;
+        for (int i = 0; i < D; ++i) {
+          const double f = -V * (grad[i] * pw + N * grad_pw[i]);
+          o[i] += f;
+          if (saturated) o[D + i] += f;
+        }
+      });
+    }
+    // The faces of the grid this point's domain reaches.
+    const double* lp = size + p * D;
+    for (int a = 0; a < D; ++a)
+      for (const bool upper : {false, true}) {
+        const double plane = grid.origin()[a] + (upper ? cells[a] * grid.cell_size()[a] : 0.0);
+        const double edge = xp[a] + (upper ? 0.5 : -0.5) * lp[a];
+        if (!(std::abs(edge - plane) <= 1e-6 * grid.cell_size()[a])) continue;
+        double on_face[3] = {xp[0], xp[1], D == 3 ? xp[2] : 0.0};
+        on_face[a] = plane;
+        const auto [face_level, face_slope] = water.level(on_face[0]);
+        const double face_depth = face_level - on_face[D - 1];
+        if (!(face_depth > 0)) continue;
+        double area = 1;
+        for (int b = 0; b < D; ++b)
+          if (b != a) area *= lp[b];
+        const double back = gamma * face_depth * area * (upper ? 1.0 : -1.0);  // + p_w n A_p, n outward
+        const int face_index = upper ? cells[a] : 0;
+        const auto first = grid.node_ijk(static_cast<std::int64_t>(s.first[p]));
+        const std::size_t at = p * static_cast<std::size_t>(s.per_point);
+        const double* w[3] = {s.weights + at, s.weights + at + s.nodes[0],
+                              s.weights + at + s.nodes[0] + s.nodes[1]};
+        const int mz = D == 3 ? s.nodes[2] : 1;
+        for (int k = 0; k < mz; ++k)
+          for (int j = 0; j < s.nodes[1]; ++j)
+            for (int i = 0; i < s.nodes[0]; ++i) {
+              const int offset[3] = {i, j, k};
+              if (first[a] + offset[a] != face_index) continue;
+              double weight = 1;
+              for (int b = 0; b < D; ++b)
+                if (b != a) weight *= w[b][offset[b]];
+              const std::size_t node =
+                  static_cast<std::size_t>(s.first[p] + i * s.stride[0] + j * s.stride[1] + k * s.stride[2]);
+              block[node * 2 * D + a] += weight * back;
+              if (saturated) block[node * 2 * D + D + a] += weight * back;
+            }
       }
-    });
   }
 }
 
@@ -105,7 +158,8 @@ void StandingWaterLoad::add_forces(Domain& d, const MixtureFields& f, NodeState&
   targets.add(block_);
   d.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     auto scatter = dim == 2 ? &scatter_water_forces<2> : &scatter_water_forces<3>;
-    scatter(b, e, d.shape.view(), water, pts.data(c.position), pts.data(c.volume), pts.data(f.porosity), out[0]);
+    scatter(b, e, d.shape.view(), d.grid, water, pts.data(c.position), pts.data(c.size), pts.data(c.volume),
+            pts.data(f.porosity), out[0]);
   });
   d.for_nodes([&](int, std::size_t b, std::size_t e) {
     for (std::size_t I = b; I < e; ++I)

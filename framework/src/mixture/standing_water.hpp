@@ -15,7 +15,9 @@
 // weight. Only the values of p_w on the surface matter, so between the
 // stretches of two conditions (a river and a ditch) the level is
 // interpolated linearly along x: where that stretch meets the surface (a
-// crest above both levels) p_w is zero either way.
+// crest above both levels) p_w is zero either way; beyond the outermost
+// stretches the nearest level holds, so that the level is continuous
+// through the bodies (a cut in it would load them inside).
 #include <optional>
 #include <vector>
 
@@ -57,6 +59,7 @@ class StandingWaterLoad {
  private:
   std::vector<const BoundaryCondition*> conditions_;
   std::vector<std::string> names_;
+  std::vector<StandingWater> first_;  // each condition's water at the start
   std::vector<double> block_;  // per node, the mixture's then the liquid's force, D components each
   std::optional<WaterProfile> current_;
 };

@@ -70,6 +70,7 @@
 #include "mpm/domain.hpp"
 #include "mpm/materials.hpp"
 #include "mixture/saturated_mixture.hpp"
+#include "mixture/standing_water.hpp"
 #include "suffuse/boundary_condition.hpp"
 
 namespace suffuse::detail {
@@ -107,6 +108,10 @@ class QuasiStatic {
   // points without stiffness at the last iteration (empty after a
   // converged solve).
   const std::string& failure() const { return failure_; }
+  // Water levels (bc/water_level): below them a free surface holds the
+  // water's pressure instead of zero. Their load on the skeleton comes
+  // through apply_loads.
+  void set_standing_water(const StandingWaterLoad* water) { water_ = water; }
   // The largest sum over the axes of |q_i| / (n h_i) at the points [1/s]:
   // a transport substep of Courant number C lasts C over it.
   double transport_rate() const;
@@ -189,7 +194,11 @@ class QuasiStatic {
   struct Extrapolated {
     std::size_t node, from;
     double factor;
+    double offset = 0;  // a submerged surface: (1 - factor) times the water's pressure where the surface is
   };
+  const StandingWaterLoad* water_ = nullptr;
+  // The still water's pressure at x (zero without water levels, or above them).
+  double water_pressure(const std::array<double, 3>& x) const;
   std::vector<Extrapolated> extrapolated_;
   std::vector<double> p_weight_;
   void measure_surface_reach();

@@ -89,9 +89,26 @@ void QuasiStatic::find_free_surfaces() {
   for (std::size_t I = 0; I < nn; ++I)
     if (surface[I]) {
       fixed_pressure_[I] = 1;
-      p_[I] = 0;
-      if (const auto e = extrapolation(I)) extrapolated_.push_back(*e);
+      // Drained (zero), or below a water level the water's pressure.
+      p_[I] = water_ ? water_pressure(d_.grid.node_position(static_cast<std::int64_t>(I))) : 0.0;
+      if (auto e = extrapolation(I)) {
+        if (water_) {
+          // Where the surface crosses the line from the inner node M through
+          // I: M + (I - M) / (1 - factor) (the factor puts p = 0 there).
+          const auto xI = d_.grid.node_position(static_cast<std::int64_t>(I));
+          const auto xM = d_.grid.node_position(static_cast<std::int64_t>(e->from));
+          std::array<double, 3> at{};
+          for (int a = 0; a < dim; ++a) at[a] = xM[a] + (xI[a] - xM[a]) / (1 - e->factor);
+          e->offset = (1 - e->factor) * water_pressure(at);
+        }
+        extrapolated_.push_back(*e);
+      }
     }
+}
+
+double QuasiStatic::water_pressure(const std::array<double, 3>& x) const {
+  const WaterProfile& water = water_->current();  // the loads' level, at the step's end
+  return water.unit_weight() * std::max(0.0, water.level(x[0]).first - x[d_.dim() - 1]);
 }
 
 // A free-surface node's pressure, extrapolated linearly from the nearest
@@ -161,13 +178,15 @@ std::optional<QuasiStatic::Extrapolated> QuasiStatic::extrapolation(std::size_t 
 
 // Once the unknowns are numbered: a surface node's pressure is its inner
 // node's times the factor that puts p = 0 at the surface (its unknown that
-// node's, p_weight_ the factor), and its equation joins the inner node's.
+// node's, p_weight_ the factor), plus, below a water level, the offset that
+// puts the water's pressure there instead; its equation joins the inner
+// node's. Newton's increments keep the relation (they scale by the factor).
 void QuasiStatic::follow_inner_nodes() {
   p_weight_.assign(d_.grid.node_count(), 1.0);
   for (const Extrapolated& e : extrapolated_) {
     p_dof_[e.node] = p_dof_[e.from];
     p_weight_[e.node] = e.factor;
-    p_[e.node] = e.factor * p_[e.from];
+    p_[e.node] = water_ ? e.factor * p_[e.from] + e.offset : e.factor * p_[e.from];
   }
 }
 

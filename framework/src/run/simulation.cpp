@@ -140,6 +140,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   if (quasi_static) {
     quasi_static_ = std::make_unique<detail::QuasiStatic>(scene_, *domain_, *materials_, mixture_.get(), bcs_,
                                                          [this](NodeState& n, double t) { apply_loads(n, t); });
+    quasi_static_->set_standing_water(water_.get());
     clock_ = SimulationClock(*scene.dt);  // validation requires it
     return;
   }
@@ -268,9 +269,6 @@ void Simulation::refuse_or_keep_standing_water() {
   if (!scene_.saturated())
     throw Error(first + ": a water level presses on saturated bodies and feeds their pores; expected a body with "
                 "\"liquid\", found dry bodies only");
-  if (scene_.integration == TimeIntegration::quasi_static)
-    throw Error(first + ": water levels act in explicit runs so far; expected /time/integration \"explicit\", "
-                "found \"quasi_static\"");
   water_ = std::move(water);
   species_->set_standing_water(water_.get());
 }
@@ -453,7 +451,9 @@ void Simulation::step_quasi_static() {
       // One implicit step then takes the rest (thousands of substeps in a
       // washed-out column: docs/time-integration.md).
       const int left = substeps - k - 1;
-      if (left > 0 && !eroded && change * left <= control.steady_transport_tolerance) {
+      // (Not with water levels: the implicit step lets no water in through a
+      // submerged surface.)
+      if (left > 0 && !eroded && !water_ && change * left <= control.steady_transport_tolerance) {
         timed(Stage::transport,
               [&] { species_->transport(left * transport_dt, detail::TransportScheme::backward_euler); });
         ++steady_transport_steps_;

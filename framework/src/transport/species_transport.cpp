@@ -1,6 +1,7 @@
 #include "transport/species_transport.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <ostream>
@@ -128,13 +129,23 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
       const std::string face_name = grid_face_names()[o.face.axis * 2 + (o.face.upper ? 1 : 0)];
       const std::string name = o.name.empty() ? face_name : o.name;
       const std::vector<std::int64_t> nodes = o.nodes.empty() ? face_nodes(d_.grid, o.face) : o.nodes;
-      if (name == "free_surface")
-        throw Error(pointer + "/name: 'free_surface' is the ledger's account of the bodies' free surfaces; expected "
-                    "another name, found \"free_surface\"");
+      const auto faces = grid_face_names();
+      const bool plain = !name.empty() && std::all_of(name.begin(), name.end(), [](unsigned char c) {
+        return std::isalnum(c) || c == '_';
+      });
+      if (!plain || name == "free_surface" || (name != face_name && std::find(faces.begin(), faces.end(), name) != faces.end()))
+        throw Error(pointer + "/name: not a name for a ledger account; expected letters, digits and '_', other "
+                    "than \"free_surface\" and another face's name, found \"" + name + "\"");
       for (std::size_t k = 0; k < openings_.size(); ++k) {
         const std::vector<std::int64_t>& other = openings_[k].ids;
-        const bool shared = openings_[k].face.axis == o.face.axis && openings_[k].face.upper == o.face.upper &&
-                            std::find_first_of(nodes.begin(), nodes.end(), other.begin(), other.end()) != nodes.end();
+        // Both lists ascend (face_nodes): one merge finds a shared node.
+        bool shared = false;
+        if (openings_[k].face.axis == o.face.axis && openings_[k].face.upper == o.face.upper)
+          for (std::size_t i = 0, j = 0; !shared && i < nodes.size() && j < other.size();) {
+            if (nodes[i] < other[j]) ++i;
+            else if (other[j] < nodes[i]) ++j;
+            else shared = true;
+          }
         if (shared)
           throw Error(pointer + " and " + opened_by[k] + " both open " +
                       (o.nodes.empty() ? "the " + face_name + " face" : "nodes of the " + face_name + " face") +
@@ -154,7 +165,7 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
         inflow_fines_[k] = o.concentration * rho_s;
         inflow_carrying_[k] = o.concentration > 0 ? inflow_liquid_[k] : 0.0;  // carries fines, or clean
       }
-      discharge_.push_back({name, 0, 0, 0, 0});
+      discharge_.push_back({name, 0, 0, 0, 0, face_name});
       opening.crossed.resize(opening.nodes.size());
       openings_.push_back(std::move(opening));
     }

@@ -26,10 +26,11 @@ class WaterLevelBC final : public suffuse::BoundaryCondition {
         "Elevation of the water's surface (y in 2D, z in 3D): a number, or in time a table [[t, level], ...] or a "
         "CSV file (a hydrograph: \"time [h], level [m]\"; docs/boundaries.md)");
     s.number("from").with_unit("m").may_be_absent().doc(
-        "Where the water stands along x, from (default: the whole grid before `to`); between the stretches of two "
-        "water levels the level is interpolated along x (put that gap where the surface is above both, e.g. a "
-        "crest)");
-    s.number("to").with_unit("m").may_be_absent().doc("Where the water stands along x, to (default: the whole grid after `from`)");
+        "Where along x this level holds, from (default: from the grid's start). Beyond the outermost levels of a "
+        "scene the nearest one holds, and between two the level is interpolated along x, so that it is "
+        "continuous through the bodies: put the gap where the surface is above both (a crest), and give a dry "
+        "side its own level at or below its ground (a ditch, the ground water)");
+    s.number("to").with_unit("m").may_be_absent().doc("Where along x this level holds, to (default: to the grid's end)");
     s.number("unit_weight").with_unit("N/m^3").above(0).fallback(9810.0).doc(
         "Unit weight of the water gamma_w (the same for every water level of a scene)");
     return s;

@@ -251,10 +251,14 @@ class CsvProbe final : public suffuse::Writer {
         continue;
       }
       double net = 0;  // no opening on that face: nothing crossed it
+      bool found = false;  // every account on the face (its parts, each named)
       if (frame.ledger)
         for (const suffuse::BoundaryDischarge& d : frame.ledger->boundaries)
-          if (d.face == face_name)
-            net = f == "fines_discharged" ? d.fines_out - d.fines_in : d.liquid_out - d.liquid_in;
+          if (d.grid_face == face_name) {
+            const double crossed = f == "fines_discharged" ? d.fines_out - d.fines_in : d.liquid_out - d.liquid_in;
+            net = found ? net + crossed : crossed;
+            found = true;
+          }
       row.push_back(net);
     }
     return row;
