@@ -98,37 +98,28 @@ TEST(Seepage, ConfinedFlowUnderAFlatBaseAsHarr) {
 // parts booked under one name are refused before the first step, naming
 // the condition.
 TEST(Seepage, PartsOfAFaceAreRefusedWhereTheyCannotBeBooked) {
-  auto refusal = [](const json& scene) -> std::string {
-    suffuse::Registry registry;
-    const suffuse::Scene s = scene_from(scene, registry);
-    try {
-      suffuse::Simulation sim(s, registry);
-    } catch (const suffuse::Error& e) {
-      return e.what();
-    }
-    return "(accepted)";
-  };
+  using suffuse::test::setup_error;
   json between_nodes = confined_flow(0.5);
   between_nodes["boundary_conditions"][3]["box_min"] = {-4.4, 1.0};
   between_nodes["boundary_conditions"][3]["box_max"] = {-4.1, 1.0};
-  EXPECT_EQ(refusal(between_nodes),
+  EXPECT_EQ(setup_error(between_nodes),
             "/boundary_conditions/3: the part of the top face from box_min to box_max holds no grid node; expected a "
             "box that reaches a node of the face (declared by bc/pore_pressure)");
   json sharing = confined_flow(0.5);
   sharing["boundary_conditions"][4]["box_min"] = {-0.5, 1.0};
-  EXPECT_EQ(refusal(sharing),
+  EXPECT_EQ(setup_error(sharing),
             "/boundary_conditions/4 and /boundary_conditions/3 both open nodes of the top face of the grid to the "
             "liquid; its outflow would be counted twice: keep one bc/pore_pressure or bc/inflow_flux per face, or "
             "give each a part of it apart (box_min, box_max)");
   json one_name = confined_flow(0.5);
   one_name["boundary_conditions"][3].erase("name");
   one_name["boundary_conditions"][4].erase("name");
-  EXPECT_EQ(refusal(one_name),
+  EXPECT_EQ(setup_error(one_name),
             "/boundary_conditions/4 and /boundary_conditions/3 both book what crosses them as 'top' in the mass "
             "ledger; expected a \"name\" for each part of a face, found the same name");
   json odd_name = confined_flow(0.5);
   odd_name["boundary_conditions"][4]["name"] = "bottom";
-  EXPECT_EQ(refusal(odd_name),
+  EXPECT_EQ(setup_error(odd_name),
             "/boundary_conditions/4/name: not a name for a ledger account; expected letters, digits and '_', other "
             "than \"free_surface\" and another face's name, found \"bottom\"");
 }

@@ -12,8 +12,10 @@
 #include <stdexcept>
 #include <string>
 #include <suffuse/element_test.hpp>
+#include <suffuse/error.hpp>
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/scene.hpp>
+#include <suffuse/simulation.hpp>
 #include <vector>
 
 namespace suffuse::test {
@@ -127,6 +129,19 @@ inline std::string boundary_condition_pointer(const nlohmann::json& scene, const
 inline Scene scene_from(const nlohmann::json& j, Registry& registry) {
   PluginLoader loader(registry);
   return parse_scene(j.dump(), "test.json", source_dir(), registry, loader);
+}
+
+// What building the run of a valid scene refuses (a check that needs the
+// grid or the conditions set up), or "(accepted)".
+inline std::string setup_error(const nlohmann::json& j) {
+  Registry registry;
+  const Scene scene = scene_from(j, registry);
+  try {
+    Simulation sim(scene, registry);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(accepted)";
 }
 
 // A CSV of numbers: a header row, then rows. A column is found by its whole
