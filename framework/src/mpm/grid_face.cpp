@@ -1,5 +1,9 @@
 #include "suffuse/grid_face.hpp"
 
+#include <utility>
+
+#include "suffuse/error.hpp"
+
 namespace suffuse {
 
 std::vector<std::string> grid_face_names() { return {"left", "right", "bottom", "top", "front", "back"}; }
@@ -53,6 +57,35 @@ std::vector<ParameterIssue> face_part_issues(const Parameters& p, int dim) {
       return {{"box_max", "empty box", "box_max >= box_min in every component",
                "box_max[" + std::to_string(a) + "] < box_min[" + std::to_string(a) + "]"}};
   return {};
+}
+
+void FacePart::declare(ParameterSchema& s, const std::string& acts) {
+  s.vector("box_min").with_unit("m").may_be_absent().doc(
+      "Lower corner of the part of the face where " + acts + " (a toe drain, a river bed beside a structure): the "
+      "face's nodes within the box, each with its whole tributary length or area (default: the whole face)");
+  s.vector("box_max").with_unit("m").may_be_absent().doc("Upper corner of that part of the face");
+  s.string("name").may_be_absent().doc(
+      "Name of this opening's account in the mass ledger (default: the face's name); needed where two conditions "
+      "open parts of one face");
+}
+
+FacePart::FacePart(const Parameters& p, GridFace face, std::string where, std::string plugin)
+    : face_(face), where_(std::move(where)), plugin_(std::move(plugin)) {
+  if (p.has("box_min")) box_min_ = p.vector("box_min"), box_max_ = p.vector("box_max");
+  if (p.has("name")) name_ = p.string("name");
+}
+
+const std::vector<std::int64_t>& FacePart::setup(const GridGeometry& grid) {
+  nodes_ = box_min_.empty() ? face_nodes(grid, face_) : face_nodes(grid, face_, box_min_, box_max_);
+  if (nodes_.empty())
+    throw Error(where_ + ": the part of the " + grid_face_names()[face_.axis * 2 + face_.upper] +
+                " face from box_min to box_max holds no grid node; expected a box that reaches a node of the face "
+                "(declared by " + plugin_ + ")");
+  return nodes_;
+}
+
+LiquidOpening FacePart::opening(double concentration) const {
+  return {face_, concentration, box_min_.empty() ? std::vector<std::int64_t>{} : nodes_, name_};
 }
 
 double face_node_area(const GridGeometry& grid, GridFace face, std::int64_t node) {

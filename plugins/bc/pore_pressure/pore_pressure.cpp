@@ -3,7 +3,6 @@
 // The pressure enters the weak form as the boundary traction -p n on the
 // liquid and on the mixture; the liquid is left free to cross the face.
 #include <optional>
-#include <suffuse/error.hpp>
 #include <string>
 #include <suffuse/grid_face.hpp>
 #include <suffuse/plugin.hpp>
@@ -16,14 +15,7 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
   static suffuse::ParameterSchema schema() {
     suffuse::ParameterSchema s;
     s.choice("face", suffuse::grid_face_names()).doc("Grid face where the pressure acts");
-    s.vector("box_min").with_unit("m").may_be_absent().doc(
-        "Lower corner of the part of the face where the pressure acts (a toe drain, a river bed beside a "
-        "structure): the face's nodes within the box, each with its whole tributary length or area (default: the "
-        "whole face)");
-    s.vector("box_max").with_unit("m").may_be_absent().doc("Upper corner of that part of the face");
-    s.string("name").may_be_absent().doc(
-        "Name of this opening's account in the mass ledger (default: the face's name); needed where two "
-        "conditions open parts of one face");
+    suffuse::FacePart::declare(s, "the pressure acts");
     s.time_series("pressure").with_unit("Pa").may_be_absent().doc(
         "Prescribed pore pressure p, compression positive: a number, or in time a table [[t, p], ...] or a CSV file "
         "(docs/boundaries.md)");
@@ -62,13 +54,11 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
 
   explicit PorePressureBC(const suffuse::PluginArgs& a)
       : dim_(a.dim),
-        where_(a.instance),
         face_(*suffuse::grid_face(a.params.string("face"))),
+        part_(a.params, face_, a.instance, "bc/pore_pressure"),
         gamma_(a.params.number("unit_weight")),
         ramp_(a.params.number("ramp_time")),
         concentration_(a.params.number("concentration")) {
-    if (a.params.has("box_min")) box_min_ = a.params.vector("box_min"), box_max_ = a.params.vector("box_max");
-    if (a.params.has("name")) name_ = a.params.string("name");
     if (a.params.has("pressure")) {
       pressure_ = a.params.time_series("pressure");
     } else {
@@ -77,19 +67,13 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
     }
   }
 
-  std::vector<suffuse::LiquidOpening> liquid_openings() const override {
-    return {{face_, concentration_, box_min_.empty() ? std::vector<std::int64_t>{} : nodes_, name_}};
-  }
+  std::vector<suffuse::LiquidOpening> liquid_openings() const override { return {part_.opening(concentration_)}; }
 
   void setup(const suffuse::GridGeometry& grid) override {
-    nodes_ = box_min_.empty() ? suffuse::face_nodes(grid, face_) : suffuse::face_nodes(grid, face_, box_min_, box_max_);
-    if (nodes_.empty())
-      throw suffuse::Error(where_ + ": the part of the " + suffuse::grid_face_names()[face_.axis * 2 + face_.upper] +
-                           " face from box_min to box_max holds no grid node; expected a box that reaches a node of "
-                           "the face (declared by bc/pore_pressure)");
+    part_.setup(grid);
     areas_.clear();
     elevations_.clear();
-    for (const std::int64_t I : nodes_) {
+    for (const std::int64_t I : part_.nodes()) {
       areas_.push_back(suffuse::face_node_area(grid, face_, I));
       elevations_.push_back(grid.node_position(I)[dim_ - 1]);
     }
@@ -106,25 +90,22 @@ class PorePressureBC final : public suffuse::BoundaryCondition {
     } else {
       p_face = pressure_->constant() ? r * (*pressure_)(time) : (*pressure_)(time);
     }
-    for (std::size_t k = 0; k < nodes_.size(); ++k) {
+    for (std::size_t k = 0; k < part_.nodes().size(); ++k) {
       const double p = head_ ? gamma_ * (h - elevations_[k]) : p_face;
       const double f = -p * face_.outward() * areas_[k];  // traction -p n
-      state.force[nodes_[k] * dim_ + face_.axis] += f;
-      state.liquid_force[nodes_[k] * dim_ + face_.axis] += f;
+      state.force[part_.nodes()[k] * dim_ + face_.axis] += f;
+      state.liquid_force[part_.nodes()[k] * dim_ + face_.axis] += f;
     }
   }
 
  private:
   int dim_;
-  std::string where_;
   suffuse::GridFace face_;
-  std::vector<double> box_min_, box_max_;  // a part of the face, or empty
-  std::string name_;
+  suffuse::FacePart part_;
   double gamma_, ramp_;
   std::optional<suffuse::TimeFunction> pressure_, head_;
   std::optional<double> initial_head_;
   double concentration_;
-  std::vector<std::int64_t> nodes_;
   std::vector<double> areas_, elevations_;
 };
 
