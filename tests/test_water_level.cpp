@@ -43,6 +43,16 @@ json submerged_slope() {
   })");
 }
 
+// The slope's scene with level ground instead: a column one cell wide, 1 m
+// deep, under the same water.
+json level_ground() {
+  json scene = submerged_slope();
+  scene["grid"]["cells"] = {1, 16};
+  scene["bodies"][0].erase("polygon");
+  scene["bodies"][0]["min"] = {0.0, 0.0}, scene["bodies"][0]["max"] = {0.1, 1.0};
+  return scene;
+}
+
 struct SlopeState {
   std::vector<double> position, stress, pressure, darcy_flux;
 };
@@ -121,10 +131,7 @@ const double buoyant_unit_weight = (1 - 0.4) * (2650.0 - 1000.0) * 9.81;  // gam
 // conductivity's rate. Measured (0.5 s): stress 8e-16,
 // pressure 8e-15, flux 4e-17 m/s (equilibrium to round-off); drained 0.2857.
 TEST(WaterLevel, SubmergedGroundCarriesItsBuoyantWeight) {
-  json scene = submerged_slope();
-  scene["grid"]["cells"] = {1, 16};
-  scene["bodies"][0].erase("polygon");
-  scene["bodies"][0]["min"] = {0.0, 0.0}, scene["bodies"][0]["max"] = {0.1, 1.0};
+  json scene = level_ground();
   scene["time"]["end"] = 0.5;
   const SlopeState wet = run(scene);
   double stress = 0;
@@ -175,10 +182,7 @@ TEST(WaterLevel, SubmergedSlopeCarriesItsBuoyantWeight) {
 // Before the transport let water in through a submerged surface: none
 // entered, while the momentum balance had pressed it in.
 TEST(WaterLevel, RisingFloodFeedsThePoresThroughTheSurface) {
-  json scene = submerged_slope();
-  scene["grid"]["cells"] = {1, 16};
-  scene["bodies"][0].erase("polygon");
-  scene["bodies"][0]["min"] = {0.0, 0.0}, scene["bodies"][0]["max"] = {0.1, 1.0};
+  json scene = level_ground();
   scene["bodies"][0]["water_table"] = 1.0;
   scene["boundary_conditions"][3]["level"] = {{0.0, 1.0}, {0.2, 1.4}};
   scene["time"]["end"] = 0.5;
@@ -215,10 +219,7 @@ TEST(WaterLevel, RisingFloodFeedsThePoresThroughTheSurface) {
 // is carried by the pores. Measured: pressure 1.4e-4, stress 2.0e-4 (the
 // Newton tolerance's), water in 0.950 of the compression.
 TEST(WaterLevel, QuasiStaticStepsFollowAHydrograph) {
-  json scene = submerged_slope();
-  scene["grid"]["cells"] = {1, 16};
-  scene["bodies"][0].erase("polygon");
-  scene["bodies"][0]["min"] = {0.0, 0.0}, scene["bodies"][0]["max"] = {0.1, 1.0};
+  json scene = level_ground();
   scene["bodies"][0]["water_table"] = 1.0;
   scene["boundary_conditions"][3]["level"] = {{0.0, 1.0}, {4.0, 1.4}};
   scene["time"] = {{"end", 6.0}, {"integration", "quasi_static"}, {"dt", 1.0}};

@@ -144,17 +144,30 @@ std::optional<Polygon> read_polygon(SceneReader& r, const Parameters& b, const s
   return polygon;
 }
 
+// A body given by `own` (points_file, surface_file) takes no other shape
+// key and no k0 (its points have no shape to weigh down): the first such
+// key is refused, at its path. Returns whether one was.
+bool refused_with_another_shape(SceneReader& r, const Parameters& b, const std::string& ptr, const std::string& own,
+                                const char* k0_problem, const char* shape_problem, const std::string& body_kind,
+                                const char* expected) {
+  for (const char* key : {"min", "max", "polygon", "polygon_file", "holes", "extrusion_axis", "points_file",
+                          "surface_file", "k0"}) {
+    if (key == own || !b.has(key)) continue;
+    const bool k0 = std::string(key) == "k0";
+    r.error(ptr + "/" + key, k0 ? k0_problem : shape_problem,
+            k0 ? "no k0: the initial stress of " + body_kind + " is its \"stress\"" : std::string(expected), key,
+            "core (body)");
+    return true;
+  }
+  return false;
+}
+
 // A body of points from a file: positions in the grid, volumes above zero.
 void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
   const std::string at = ptr + "/points_file";
-  for (const char* key : {"min", "max", "polygon", "polygon_file", "holes", "extrusion_axis", "surface_file", "k0"})
-    if (b.has(key)) {
-      r.error(ptr + "/" + key, std::string(key) == "k0" ? "k0 on a body of points" : "a points file and a shape",
-              std::string(key) == "k0" ? "no k0: the initial stress of a body without a shape is its \"stress\""
-                                       : "either points_file or a box or polygon",
-              key, "core (body)");
-      return;
-    }
+  if (refused_with_another_shape(r, b, ptr, "points_file", "k0 on a body of points", "a points file and a shape",
+                                 "a body without a shape", "either points_file or a box or polygon"))
+    return;
   std::filesystem::path file = b.string("points_file");
   if (file.is_relative()) file = r.base_dir / file;
   const int D = r.dim;
@@ -195,14 +208,10 @@ void read_surface(SceneReader& r, const Scene& scene, const Parameters& b, const
     r.error(at, "a surface in 2D", "surface_file in 3D scenes (in 2D: a polygon)", b.string("surface_file"), "core (body)");
     return;
   }
-  for (const char* key : {"min", "max", "polygon", "polygon_file", "holes", "extrusion_axis", "points_file", "k0"})
-    if (b.has(key)) {
-      r.error(ptr + "/" + key, std::string(key) == "k0" ? "k0 on a body inside a surface" : "a surface and another shape",
-              std::string(key) == "k0" ? "no k0: the initial stress of a body inside a surface is its \"stress\""
-                                       : "either surface_file or a box, polygon or points_file",
-              key, "core (body)");
-      return;
-    }
+  if (refused_with_another_shape(r, b, ptr, "surface_file", "k0 on a body inside a surface",
+                                 "a surface and another shape", "a body inside a surface",
+                                 "either surface_file or a box, polygon or points_file"))
+    return;
   if (!r.grid_ok) return;
   std::filesystem::path file = b.string("surface_file");
   if (file.is_relative()) file = r.base_dir / file;
