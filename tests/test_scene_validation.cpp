@@ -168,7 +168,7 @@ TEST(SceneValidation, UnknownKeyInPluginNode) {
   json j = base_scene();
   j["materials"]["soil"]["youngs"] = 1.0e7;
   expect_diagnostics(j, {{"/materials/soil/youngs", "unknown key",
-                          "one of {density, youngs_modulus, poisson_ratio, tension_cutoff, separation, erosion, permeability, type}", "\"youngs\"",
+                          "one of {density, youngs_modulus, poisson_ratio, tension_cutoff, separation, erosion, permeability, phreatic, type}", "\"youngs\"",
                           "phase/linear_elastic"}});
 }
 
@@ -177,7 +177,7 @@ TEST(SceneValidation, MisspelledRequiredKeyGivesUnknownAndMissing) {
   j["materials"]["soil"].erase("youngs_modulus");
   j["materials"]["soil"]["youngs"] = 1.0e7;
   expect_diagnostics(j, {{"/materials/soil/youngs", "unknown key",
-                          "one of {density, youngs_modulus, poisson_ratio, tension_cutoff, separation, erosion, permeability, type}", "\"youngs\"",
+                          "one of {density, youngs_modulus, poisson_ratio, tension_cutoff, separation, erosion, permeability, phreatic, type}", "\"youngs\"",
                           "phase/linear_elastic"},
                          {"/materials/soil/youngs_modulus", "missing required parameter", "number > 0 [Pa]",
                           "nothing", "phase/linear_elastic"}});
@@ -372,7 +372,7 @@ TEST(SceneValidation, PointerEscapesSlashAndTildeInKeys) {
   j["bodies"][0]["material"] = "a/b";
   expect_diagnostics(j, {{"/materials/a~1b/youngs_modulus", "value out of range", "number > 0 [Pa]", "-5",
                           "phase/linear_elastic"},
-                         {"/materials/c~0d/nu", "unknown key", "one of {density, youngs_modulus, poisson_ratio, tension_cutoff, separation, erosion, permeability, type}",
+                         {"/materials/c~0d/nu", "unknown key", "one of {density, youngs_modulus, poisson_ratio, tension_cutoff, separation, erosion, permeability, phreatic, type}",
                           "\"nu\"", "phase/linear_elastic"}});
 }
 

@@ -23,12 +23,23 @@ struct PluginNode {
   Parameters params;    // validated against the plugin's schema
 };
 
+// A soil whose pores drain above the phreatic surface (docs/phreatic.md):
+// above it the pore pressure is zero and the pores hold water by a retention
+// curve of the pressure head psi / gamma_w below zero, exp(psi / (gamma_w
+// drainage_head)), with the conductivity's relative factor residual +
+// (1 - residual) S^3.
+struct DrainageSpec {
+  double drainage_head = 0.05;           // [m] the head over which the pores drain
+  double residual_conductivity = 1e-3;   // [-] of the saturated conductivity, where the pores are drained
+};
+
 struct MaterialSpec {
   std::string name;
   PluginNode phase;
   std::optional<PluginNode> base;          // the phase `phase` wraps, if its plugin wraps one
   std::optional<PluginNode> permeability;  // required when a saturated body uses it
   std::optional<PluginNode> erosion;       // an erosion law: the skeleton's fines can be washed out
+  std::optional<DrainageSpec> phreatic;    // its pores drain above the phreatic surface (quasi-static runs)
 };
 
 struct LiquidSpec {
@@ -143,6 +154,12 @@ struct Scene {
   bool saturated() const {
     for (const BodySpec& b : bodies)
       if (b.liquid) return true;
+    return false;
+  }
+  // A material's pores drain above a phreatic surface.
+  bool phreatic() const {
+    for (const MaterialSpec& m : materials)
+      if (m.phreatic) return true;
     return false;
   }
 };

@@ -6,6 +6,7 @@
 #include "mpm/plugin_batch.hpp"
 #include "mpm/solid_kernels.hpp"
 #include "suffuse/error.hpp"
+#include "mixture/drainage.hpp"
 #include "mixture/two_phase_kernels.hpp"
 
 namespace suffuse::detail {
@@ -33,6 +34,11 @@ std::vector<FieldDeclaration<MixtureFields>> SaturatedMixture::fields_declared()
   };
 }
 
+FieldInfo SaturatedMixture::saturation_field() {
+  return {"saturation", FieldKind::Scalar, "-",
+          "degree of saturation S: 1 below the phreatic surface, less above it where the pores drained", true};
+}
+
 SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry, Domain& domain,
                                    const std::vector<const Phase*>& phases)
     : d_(domain), gravity_(scene.gravity), damping_(scene.damping), mass_scaling_(scene.mass_scaling), phases_(phases) {
@@ -46,8 +52,10 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
                                            : nullptr);
     permeability_names_.push_back(m.permeability ? plugin_of_material("permeability law", *m.permeability, m.name)
                                                  : std::string());
+    drainage_.push_back(m.phreatic);
   }
   f_ = register_fields(d_.points, fields_declared());
+  if (scene.phreatic()) f_.saturation = d_.points.add_field(saturation_field());
   const std::size_t nn = d_.grid.node_count();
   for (auto* v : {&node_drag_, &node_pressure_rate_}) v->assign(nn, 0.0);
   node_darcy_.assign(nn * dim, 0.0);
@@ -63,11 +71,20 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b) {
   const double* V = pts.data(pts.core().volume);
   const double* x = pts.data(pts.core().position);
   const double g = -gravity_[dim - 1];  // along the vertical (last) axis, downward
+  const std::optional<DrainageSpec>& drains = drainage_[body.material];
   for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
     const double pore = body.porosity * V[p];
     pts.data(f_.porosity)[p] = body.porosity;
     double pressure = body.pore_pressure;
     if (body.water_table) pressure += rho_w * g * std::max(0.0, *body.water_table - x[p * dim + dim - 1]);
+    if (f_.saturation) {
+      // Pores that drain hold, above the water table, what the retention
+      // curve gives at the hydrostatic potential there (none of it pressure).
+      double S = 1;
+      if (drains && body.water_table && x[p * dim + dim - 1] > *body.water_table)
+        S = Drainage(*drains).saturation(pressure - rho_w * g * (x[p * dim + dim - 1] - *body.water_table), rho_w);
+      pts.data(*f_.saturation)[p] = S;
+    }
     pts.data(f_.pressure)[p] = pressure;
     pts.data(f_.bulk_modulus)[p] = liquid.bulk_modulus();
     for (int a = 0; a < dim; ++a) pts.data(f_.liquid_velocity)[p * dim + a] = body.velocity[a];

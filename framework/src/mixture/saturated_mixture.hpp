@@ -6,6 +6,7 @@
 // permeability laws.
 #include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "mpm/domain.hpp"
@@ -19,12 +20,15 @@ namespace suffuse::detail {
 struct MixtureFields {
   FieldId porosity, porosity_increment, pressure, pressure_rate, liquid_velocity, conductivity, darcy_flux,
       liquid_density, liquid_mass, moving_liquid_mass, bulk_modulus, grain_density, water_density;
+  std::optional<FieldId> saturation;  // in scenes whose pores drain above a phreatic surface (Scene::phreatic)
 };
 
 class SaturatedMixture final : public MomentumBalance {
  public:
   // The point fields it registers, for validation and for the constructor.
   static std::vector<FieldDeclaration<MixtureFields>> fields_declared();
+  // The degree of saturation, registered in scenes with a phreatic surface.
+  static FieldInfo saturation_field();
 
   SaturatedMixture(const Scene& scene, const Registry& registry, Domain& domain,
                    const std::vector<const Phase*>& phases);
@@ -62,6 +66,7 @@ class SaturatedMixture final : public MomentumBalance {
 
   Domain& d_;
   std::array<double, 3> gravity_;
+  std::vector<std::optional<DrainageSpec>> drainage_;  // per material
   double damping_, mass_scaling_;
   std::vector<const Phase*> phases_;  // per material
   std::vector<std::unique_ptr<Liquid>> liquids_;

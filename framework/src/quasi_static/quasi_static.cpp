@@ -11,16 +11,10 @@
 #include "quasi_static/quasi_static_linear.hpp"
 #include "mpm/solid_kernels.hpp"
 #include "suffuse/error.hpp"
-#include "suffuse/grid_face.hpp"
 #include "suffuse/liquid.hpp"
 #include "suffuse/tensor.hpp"
 
 namespace suffuse::detail {
-
-namespace {
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-constexpr double min_cover = 1e-4;
-}  // namespace
 
 QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& materials, SaturatedMixture* mixture,
                          const std::vector<std::unique_ptr<BoundaryCondition>>& bcs, ApplyLoads apply_loads)
@@ -34,7 +28,13 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
   for (auto* v : {&node_mass_, &node_pore_, &node_volume_, &p_}) v->assign(nn, 0.0);
   du_.assign(nn * dim, 0.0);
   f_ext_.assign(nn * dim, 0.0);
-  for (std::size_t m = 0; m < scene.materials.size(); ++m) modulus_.push_back(materials.phase(m).p_wave_modulus());
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    modulus_.push_back(materials.phase(m).p_wave_modulus());
+    drainage_.push_back(scene.materials[m].phreatic ? std::optional<Drainage>(*scene.materials[m].phreatic)
+                                                    : std::nullopt);
+  }
+  phreatic_ = mixture_ && scene.phreatic();
+  if (phreatic_) seepage_closed_.assign(nn, 0);
   std::size_t cells = 1;
   for (int a = 0; a < dim; ++a) cells *= static_cast<std::size_t>(d_.grid.cells()[a]);
   cell_count_.assign(cells, 0.0);
@@ -54,243 +54,6 @@ void QuasiStatic::save_state(std::vector<std::vector<double>>& into) const {
 void QuasiStatic::restore_state(const std::vector<std::vector<double>>& from) {
   const auto& ids = materials_.stress_state_fields();
   for (std::size_t k = 0; k < ids.size(); ++k) std::copy(from[k].begin(), from[k].end(), d_.points.data(ids[k]));
-}
-
-void QuasiStatic::prepare(double time, double dt) {
-  const int dim = d_.dim();
-  const std::size_t nn = d_.grid.node_count();
-  PointSet& pts = d_.points;
-  const auto& c = pts.core();
-  const ExpandedSupports& s = d_.expanded_shape();
-  const double* m = pts.data(c.mass);
-  const double* V = pts.data(c.volume);
-  const double* x = pts.data(c.position);
-  const double* n = mixture_ ? pts.data(mixture_->fields().porosity) : nullptr;
-  const double* pressure = mixture_ ? pts.data(mixture_->fields().pressure) : nullptr;
-  const double* moving = mixture_ ? pts.data(mixture_->fields().moving_liquid_mass) : nullptr;
-
-  // Nodal masses (gravity), pore volumes and the old pressures projected.
-  for (auto* v : {&node_mass_, &node_pore_, &node_volume_, &p_}) std::fill(v->begin(), v->end(), 0.0);
-  node_cover_.assign(nn, 0.0);
-  std::fill(f_ext_.begin(), f_ext_.end(), 0.0);
-  std::fill(cell_count_.begin(), cell_count_.end(), 0.0);
-  const auto& g = scene_.gravity;
-  creep_.assign(nn * dim, 0.0);  // none until a point has no stiffness (assemble)
-  const bool inertia = scene_.quasi_static.inertia;
-  const double* v = pts.data(c.velocity);
-  if (inertia) {
-    inertia_.assign(nn * dim, 0.0);
-    inertia_target_.assign(nn * dim, 0.0);
-  }
-  for (std::size_t p = 0; p < pts.size(); ++p) {
-    const bool wet = n && n[p] > 0;
-    const double weight = m[p] + (wet ? moving[p] : 0.0);
-    for (int a = 0; a < s.npp; ++a) {
-      const std::size_t k = p * s.npp + a;
-      const std::int64_t I = s.ids[k];
-      const double N = s.weights[k];
-      node_mass_[I] += N * m[p];
-      node_cover_[I] += N * V[p];
-      for (int i = 0; i < dim; ++i) f_ext_[I * dim + i] += N * weight * g[i];
-      if (inertia)  // the mixture's mass and momentum (the liquid moving with the skeleton, as in u-p)
-        for (int i = 0; i < dim; ++i) {
-          inertia_[I * dim + i] += N * weight;
-          inertia_target_[I * dim + i] += N * weight * v[p * dim + i];
-        }
-      if (!wet) continue;
-      node_pore_[I] += N * n[p] * V[p];
-      node_volume_[I] += N * V[p];
-      p_[I] += N * V[p] * pressure[p];
-    }
-    if (!wet) continue;
-    std::int64_t cell = 0, stride = 1;
-    for (int a = 0; a < dim; ++a) {
-      const int i = static_cast<int>(std::floor((x[p * dim + a] - d_.grid.origin()[a]) / d_.grid.cell_size()[a]));
-      cell += stride * std::clamp(i, 0, d_.grid.cells()[a] - 1);
-      stride *= d_.grid.cells()[a];
-    }
-    ++cell_count_[cell];
-  }
-  for (auto* sums : {&node_mass_, &node_cover_, &f_ext_, &node_pore_, &node_volume_, &p_, &cell_count_})
-    sum_over_processes(*sums);
-  // Inertia: M (du - dt v0) / dt^2 in each displacement equation, v0 the
-  // nodal velocity at the start of the step (mass-weighted).
-  if (inertia) {
-    sum_over_processes(inertia_);
-    sum_over_processes(inertia_target_);
-    for (std::size_t k = 0; k < inertia_.size(); ++k) {
-      const double M = inertia_[k];
-      inertia_target_[k] = M > 0 ? dt * inertia_target_[k] / M : 0.0;
-      inertia_[k] = M / (dt * dt);
-    }
-  }
-  for (std::size_t I = 0; I < nn; ++I)
-    if (node_volume_[I] > 0) p_[I] /= node_volume_[I];
-
-  // What the boundary conditions do: loads at the end of the step, and the
-  // components they constrain (left NaN where they do not).
-  const double t1 = time + dt;
-  for (auto* v : {&probe_.force, &probe_.liquid_force}) std::fill(v->begin(), v->end(), 0.0);
-  std::fill(probe_.velocity.begin(), probe_.velocity.end(), nan);
-  if (mixture_) {
-    std::fill(probe_.liquid_velocity.begin(), probe_.liquid_velocity.end(), nan);
-    probe_.liquid_mass = node_pore_;  // their ratio is the nodal porosity
-    probe_.liquid_inertia = node_volume_;
-  }
-  apply_loads_(probe_, t1);
-  held_.assign(bcs_.size(), {});
-  for (std::size_t b = 0; b < bcs_.size(); ++b) {
-    const bool recorded = std::any_of(scene_.reactions.begin(), scene_.reactions.end(),
-                                      [&](const ReactionSpec& r) { return r.condition == b; });
-    if (recorded) velocity_before_.assign(probe_.velocity.begin(), probe_.velocity.end());
-    bcs_[b]->constrain_velocity(d_.grid, probe_, t1);
-    if (!recorded) continue;
-    for (std::size_t k = 0; k < probe_.velocity.size(); ++k) {
-      const double before = velocity_before_[k], after = probe_.velocity[k];
-      if (!std::isnan(after) && (std::isnan(before) || before != after)) held_[b].push_back(k);
-    }
-  }
-  for (std::size_t k = 0; k < f_ext_.size(); ++k) f_ext_[k] += probe_.force[k];
-
-  // Displacement unknowns: components of nodes with mass, unless constrained.
-  equations_ = 0;
-  tail_nodes_.clear();
-  tail_mark_.assign(nn, 0);
-  double cell_volume = 1;
-  for (int a = 0; a < dim; ++a) cell_volume *= d_.grid.cell_size()[a];
-  u_dof_.assign(nn * dim, -1);
-  const bool root = d_.comm.root();  // where the terms every process knows are added (once)
-  for (std::size_t I = 0; I < nn; ++I)
-    for (int i = 0; i < dim; ++i) {
-      const std::size_t k = I * dim + i;
-      du_[k] = 0;
-      if (node_mass_[I] <= 0) continue;
-      if (std::isnan(probe_.velocity[k]) && node_cover_[I] < min_cover * cell_volume) {
-        if (!tail_mark_[I]) tail_nodes_.push_back(static_cast<std::int64_t>(I));
-        tail_mark_[I] = 1;
-        continue;
-      }
-      if (std::isnan(probe_.velocity[k]))
-        u_dof_[k] = static_cast<std::int64_t>(equations_++);
-      else
-        du_[k] = probe_.velocity[k] * dt;
-    }
-
-  tail_points_.clear();
-  if (!tail_nodes_.empty()) {
-    tail_sum_.assign(nn * dim, 0.0);
-    tail_weight_.assign(nn, 0.0);
-    for (std::size_t p = 0; p < pts.size(); ++p)
-      for (int a = 0; a < s.npp; ++a)
-        if (tail_mark_[static_cast<std::size_t>(s.ids[p * s.npp + a])]) {
-          tail_points_.push_back(p);
-          break;
-        }
-  }
-  follow_tail_nodes();  // the constrained increments
-
-  // Pressure unknowns: nodes with pore volume, unless a face open to the
-  // liquid or a free surface fixes their pressure.
-  displacement_equations_ = equations_;
-  p_dof_.assign(nn, -1);
-  b_p_.assign(nn, 0.0);
-  if (!mixture_) return;
-  std::vector<char>& fixed = fixed_pressure_;
-  fixed.assign(nn, 0);
-  face_flux_.clear();
-  for (const auto& bc : bcs_)
-    for (const LiquidOpening& opening : bc->liquid_openings()) {
-      const GridFace f = opening.face;
-      for (const std::int64_t I : opening.nodes.empty() ? face_nodes(d_.grid, f) : opening.nodes) {
-        if (node_pore_[I] <= 0) continue;
-        const std::size_t k = static_cast<std::size_t>(I) * dim + f.axis;
-        const double area = face_node_area(d_.grid, f, I);
-        if (!std::isnan(probe_.liquid_velocity[k]) && !std::isnan(probe_.velocity[k])) {
-          // A prescribed flux: n (v_L - v_s) enters against the outward normal.
-          const double nI = node_pore_[I] / node_volume_[I];
-          if (root) b_p_[I] -= dt * f.outward() * nI * (probe_.liquid_velocity[k] - probe_.velocity[k]) * area;
-        } else if (!fixed[I]) {
-          fixed[I] = 1;  // the pressure whose traction -p n the condition applied
-          p_[I] = -probe_.liquid_force[k] * f.outward() / area;
-          face_flux_.push_back({I, f.axis, f.outward(), area});
-        } else {  // a corner two open faces share: its residual is their sum
-          std::erase_if(face_flux_, [&](const FaceFlux& ff) { return ff.node == I; });
-        }
-      }
-    }
-  find_free_surfaces();  // drained where the surface is (quasi_static_free_surface.cpp)
-  for (std::size_t I = 0; I < nn; ++I)
-    if (node_pore_[I] > 0 && !fixed[I]) p_dof_[I] = static_cast<std::int64_t>(equations_++);
-  follow_inner_nodes();
-
-  // The rest of the pressure equations' right-hand side: the storage of the
-  // old pressures and the flow gravity drives, -dt sum V k rho_L g . grad N.
-  const auto& mf = mixture_->fields();
-  const double* KL = pts.data(mf.bulk_modulus);
-  const double* K = pts.data(mf.conductivity);
-  const double* rho_w = pts.data(mf.water_density);
-  const double* rho_l = pts.data(mf.liquid_density);
-  for (std::size_t p = 0; p < pts.size(); ++p) {
-    if (!(n[p] > 0)) continue;
-    const double storage = V[p] * n[p] / KL[p] * pressure[p];
-    const double k = K[p] / (rho_w[p] * reference_gravity);
-    for (int a = 0; a < s.npp; ++a) {
-      const std::size_t q = p * s.npp + a;
-      const std::int64_t I = s.ids[q];
-      double g_dot = 0;
-      for (int i = 0; i < dim; ++i) g_dot += g[i] * s.gradients[q * dim + i];
-      b_p_[I] += s.weights[q] * storage + dt * V[p] * k * rho_l[p] * g_dot;
-    }
-  }
-  sum_over_processes(b_p_);
-}
-
-void QuasiStatic::follow_tail_nodes() {
-  if (tail_nodes_.empty()) return;
-  const int dim = d_.dim();
-  const ExpandedSupports& s = d_.expanded_shape();
-  const double* m = d_.points.data(d_.points.core().mass);
-  for (const std::int64_t I : tail_nodes_) {
-    tail_weight_[I] = 0;
-    for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] = 0;
-  }
-  for (const std::size_t p : tail_points_) {
-    double du[3] = {0, 0, 0}, w = 0;
-    for (int a = 0; a < s.npp; ++a) {
-      const std::size_t q = p * s.npp + a;
-      const std::int64_t I = s.ids[q];
-      if (tail_mark_[I]) continue;
-      w += s.weights[q];
-      for (int i = 0; i < dim; ++i) du[i] += s.weights[q] * du_[I * dim + i];
-    }
-    if (w <= 0) continue;  // a point only tail nodes reach: it stays
-    for (int a = 0; a < s.npp; ++a) {
-      const std::size_t q = p * s.npp + a;
-      const std::int64_t I = s.ids[q];
-      if (!tail_mark_[I]) continue;
-      const double c = s.weights[q] * m[p];
-      tail_weight_[I] += c;
-      for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] += c * du[i] / w;
-    }
-  }
-  if (d_.comm.parallel()) {  // the tail nodes' sums only
-    std::vector<double> sums;
-    for (const std::int64_t I : tail_nodes_) {
-      sums.push_back(tail_weight_[I]);
-      for (int i = 0; i < dim; ++i) sums.push_back(tail_sum_[I * dim + i]);
-    }
-    sum_over_processes(sums);
-    std::size_t at = 0;
-    for (const std::int64_t I : tail_nodes_) {
-      tail_weight_[I] = sums[at++];
-      for (int i = 0; i < dim; ++i) tail_sum_[I * dim + i] = sums[at++];
-    }
-  }
-  for (const std::int64_t I : tail_nodes_)
-    for (int i = 0; i < dim; ++i) {
-      const std::size_t k = static_cast<std::size_t>(I) * dim + i;
-      if (tail_weight_[I] > 0 && std::isnan(probe_.velocity[k])) du_[k] = tail_sum_[k] / tail_weight_[I];
-    }
 }
 
 // The stresses of the current increments (each phase's own update from the
@@ -318,6 +81,16 @@ double QuasiStatic::evaluate(double dt) {
   r_p = b_p_;  // every process's sum: the others add their points' terms only
   if (!d_.comm.root()) std::fill(r_p.begin(), r_p.end(), 0.0);
   point_pressure_.assign(pts.size(), 0.0);
+  const double* material = pts.data(c.material_id);
+  std::vector<double>& water_terms = water_terms_;  // phreatic scenes: per node, the sum of the sizes of its pressure equation's terms
+  if (phreatic_) {
+    water_terms.assign(nn, 0.0);
+    coupling_.assign(pts.size(), 1.0);
+    saturation_.assign(pts.size(), 1.0);
+    relative_.assign(pts.size(), 1.0);
+    capacity_.assign(pts.size(), 0.0);  // a saturated point's: n / K_L, set below where it has pores
+    drift_.assign(pts.size() * 3, 0.0);
+  }
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const bool wet = n && n[p] > 0;
     double pp = 0, grad_p[3] = {0, 0, 0}, div_u = 0;
@@ -332,6 +105,12 @@ double QuasiStatic::evaluate(double dt) {
         }
       }
     point_pressure_[p] = pp;
+    const std::optional<Drainage>* drains =
+        phreatic_ && wet ? &drainage_[static_cast<std::size_t>(material[p])] : nullptr;
+    if (drains && *drains) {
+      add_drained_point_terms(**drains, p, pp, grad_p, div_u, dt, f_int, r_p, water_terms);
+      continue;
+    }
     const double* sp = sigma + p * 6;
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t q = p * s.npp + a;
@@ -346,11 +125,14 @@ double QuasiStatic::evaluate(double dt) {
       const double k = K[p] / (rho_w[p] * reference_gravity);
       double flow = 0;
       for (int i = 0; i < dim; ++i) flow += gN[i] * grad_p[i];
-      r_p[I] -= s.weights[q] * V[p] * (n[p] / KL[p] * pp + div_u) + dt * V[p] * k * flow;
+      const double stored = s.weights[q] * V[p] * (n[p] / KL[p] * pp + div_u), flowing = dt * V[p] * k * flow;
+      r_p[I] -= stored + flowing;
+      if (phreatic_) water_terms[I] += std::abs(stored) + std::abs(flowing), capacity_[p] = n[p] / KL[p];
     }
   }
   sum_over_processes(f_int);
   if (mixture_) sum_over_processes(r_p);
+  if (phreatic_) sum_over_processes(water_terms);
   double r2 = 0, f2 = 0, i2 = 0, a2 = 0;
   for (std::size_t I = 0; I < nn; ++I)
     for (int i = 0; i < dim; ++i) {
@@ -369,9 +151,18 @@ double QuasiStatic::evaluate(double dt) {
       r2 += r * r;
     }
   for (std::size_t I = 0; I < nn; ++I)
-    if (p_dof_[I] >= 0 && !surface_node_[I]) residual_[static_cast<std::size_t>(p_dof_[I])] = -r_p[I];
+    if (p_dof_[I] >= 0 && (!surface_node_[I] || (phreatic_ && seepage_closed_[I])))
+      residual_[static_cast<std::size_t>(p_dof_[I])] = -r_p[I];
   for (const Extrapolated& e : extrapolated_)
     residual_[static_cast<std::size_t>(p_dof_[e.node])] -= e.factor * r_p[e.node];
+  if (phreatic_) {  // the water balance converges with the forces (merged equations counted once)
+    double w2 = 0, s2 = 0;
+    for (std::size_t e = displacement_equations_; e < equations_; ++e) w2 += residual_[e] * residual_[e];
+    for (std::size_t I = 0; I < nn; ++I)
+      if (p_dof_[I] >= 0) s2 += water_terms[I] * water_terms[I];
+    water_norm_ = std::sqrt(w2);
+    water_scale_ = std::sqrt(s2);
+  }
   force_scale_ = std::sqrt(std::max({f2, i2, a2}));
   return std::sqrt(r2);
 }
@@ -380,19 +171,28 @@ double QuasiStatic::evaluate(double dt) {
 // tangents at each iterate (a cohesionless point that separates has none).
 std::optional<int> QuasiStatic::solve(double time, double dt) {
   failure_.clear();
-  prepare(time, dt);
-  prepare_blocks();
-  residual_.assign(equations_, 0.0);
-  // The step's eigenstrain, once: every iteration starts from the state
-  // with it imposed (a phase's eigenstrain is a function of the state at
-  // the step's start, not of the iterate).
-  if (materials_.writes_eigenstrain()) {
-    save_state(step_start_);
-    materials_.impose_eigenstrain(d_, dt);
-  }
-  save_state(saved_);
   int iterations = 0;
-  if (newton(dt, iterations)) return iterations;
+  // Phreatic scenes solve the step again while its seepage faces change
+  // (settle_seepage_faces), from the same start, at most this many times.
+  constexpr int max_seepage_rounds = 8;
+  for (seepage_rounds_ = 1;; ++seepage_rounds_) {
+    if (seepage_rounds_ > 1) restore_state(saved_);
+    prepare(time, dt);
+    prepare_blocks();
+    residual_.assign(equations_, 0.0);
+    // The step's eigenstrain, once: every iteration starts from the state
+    // with it imposed (a phase's eigenstrain is a function of the state at
+    // the step's start, not of the iterate).
+    if (seepage_rounds_ == 1) {
+      if (materials_.writes_eigenstrain()) {
+        save_state(step_start_);
+        materials_.impose_eigenstrain(d_, dt);
+      }
+      save_state(saved_);
+    }
+    if (!newton(dt, iterations)) break;
+    if (!phreatic_ || seepage_rounds_ == max_seepage_rounds || !settle_seepage_faces()) return iterations;
+  }
   if (materials_.writes_eigenstrain()) restore_state(step_start_);
   return std::nullopt;
 }
@@ -430,7 +230,9 @@ bool QuasiStatic::newton(double dt, int& iterations) {
   for (int iteration = 0;; ++iteration) {
     if (!std::isfinite(norm)) break;
     // The first evaluation has the old pressures: at least one solve.
-    if (iteration > 0 && norm <= control.newton_tolerance * force_scale_) return true;
+    if (iteration > 0 && norm <= control.newton_tolerance * force_scale_ &&
+        (!phreatic_ || water_norm_ <= control.newton_tolerance * water_scale_))
+      return true;
     // Or the last full Newton step changed the increments by round-off: a
     // body moved only by its constraints (a translation) has no forces to
     // compare the residual with.

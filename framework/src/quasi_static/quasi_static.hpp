@@ -69,6 +69,7 @@
 
 #include "mpm/domain.hpp"
 #include "mpm/materials.hpp"
+#include "mixture/drainage.hpp"
 #include "mixture/saturated_mixture.hpp"
 #include "mixture/standing_water.hpp"
 #include "suffuse/boundary_condition.hpp"
@@ -125,6 +126,11 @@ class QuasiStatic {
   // fluidised bed) its deformation is the creep term's, not a prediction
   // (docs/time-integration.md, Fluidisation).
   std::size_t creep_held_points() const { return creep_held_points_; }
+  // Scenes with a phreatic surface: the seepage-face nodes the last step
+  // left closed (water would have entered there), and the rounds of the
+  // step's solve it took to settle which (docs/phreatic.md).
+  std::size_t closed_seepage_nodes() const;
+  int seepage_rounds() const { return seepage_rounds_; }
 
  private:
   struct Linear;  // the sparse system and its factorisation
@@ -140,6 +146,16 @@ class QuasiStatic {
   void assemble(double dt);  // the matrix, from the tangents at the iterate
   void factorise_or_throw();
   void describe_failure();  // failure_, from the last iterate
+  // Phreatic scenes: after a converged solve, closes the seepage-face nodes
+  // water would enter through and opens the closed ones whose pressure rose
+  // above zero; true if any changed (the step is then solved again).
+  bool settle_seepage_faces();
+  // evaluate's terms of a point whose pores drain: its internal force with
+  // the pressure max(psi, 0), its water balance with S(psi) and k_r; keeps
+  // the matrix's factors of the point (coupling_, capacity_, relative_).
+  void add_drained_point_terms(const Drainage& drains, std::size_t p, double psi, const double* grad_psi,
+                               double div_u, double dt, std::vector<double>& f_int, std::vector<double>& r_p,
+                               std::vector<double>& water_terms);
   // du of the tail nodes: the mean, weighted by N m, of the increments the
   // other nodes give the points they reach (a translation or rotation of
   // the body carries them along, a sliver of a point adds no strain).
@@ -197,6 +213,20 @@ class QuasiStatic {
     double offset = 0;  // a submerged surface: (1 - factor) times the water's pressure where the surface is
   };
   const StandingWaterLoad* water_ = nullptr;
+  // Pores that drain above a phreatic surface (mixture/drainage.hpp): per
+  // material, none where its pores stay saturated.
+  std::vector<std::optional<Drainage>> drainage_;
+  bool phreatic_ = false;
+  // Per point, at the step's start: the water potential psi (the pressure
+  // where the pores are full); at the iterate: the factors of the matrix
+  // (BlockTerms in quasi_static_assembly.cpp), one per point but drift_'s 3.
+  std::vector<double> potential_, coupling_, saturation_, capacity_, relative_, drift_;
+  // Per node: a free-surface node above the water levels, a seepage face,
+  // drained where water leaves; 1 where it is closed (water would enter).
+  std::vector<char> seepage_node_, seepage_closed_, seepage_switched_;  // switched: within this step
+  int seepage_rounds_ = 0;
+  std::vector<double> water_terms_;          // per node, evaluate's work array
+  double water_norm_ = 0, water_scale_ = 0;  // the pressure equations' residual, and the size of their terms
   // The still water's pressure at x (zero without water levels, or above them).
   double water_pressure(const std::array<double, 3>& x) const;
   std::vector<Extrapolated> extrapolated_;

@@ -41,6 +41,11 @@ struct BlockTerms {
   const ExpandedSupports& s;
   const double* tangents;  // 36 per point
   const double *V, *n, *KL, *K, *rho_w;  // n and the rest null in dry runs
+  // Phreatic scenes (mixture/drainage.hpp), per point at the iterate (null
+  // in others): the pressure's push on the skeleton (1 where psi >= 0, else
+  // 0), the saturation S, the water stored per unit volume and pressure,
+  // k_r, and the flow's change with psi through k_r (3 per point).
+  const double *coupling, *saturation, *capacity, *relative, *drift;
   const int* point_nodes_ijk;
   const std::int64_t* block_node;
   int stencil_radius, stencil_width;
@@ -62,8 +67,20 @@ void add_point_blocks(const BlockTerms& t, std::size_t p) {
     for (int q = 0; q < rows; ++q) D[r][q] = t.tangents[p * 36 + component[r] * 6 + component[q]];
   const double V = t.V[p];
   const bool wet = t.n && t.n[p] > 0;
-  const double storage = wet ? V * t.n[p] / t.KL[p] : 0.0;
-  const double flow = wet ? V * t.dt * t.K[p] / (t.rho_w[p] * reference_gravity) : 0.0;
+  double storage = wet ? V * t.n[p] / t.KL[p] : 0.0;
+  double flow = wet ? V * t.dt * t.K[p] / (t.rho_w[p] * reference_gravity) : 0.0;
+  // Where the pores drain (Newton's exact terms, which are not symmetric):
+  // the retention curve stores water, the flow has k_r and changes with psi
+  // through it, the pressure pushes on the skeleton only where psi >= 0,
+  // and the skeleton's volume change moves the water the pores hold, S.
+  double coupling = 1, volume = 1;
+  const double* drift = nullptr;
+  if (wet && t.coupling) {
+    storage = V * t.capacity[p];
+    flow *= t.relative[p];
+    coupling = t.coupling[p], volume = t.saturation[p];
+    drift = t.drift + p * 3;
+  }
   const int* ijk = &t.point_nodes_ijk[p * npp * 3];
   for (int b = 0; b < npp; ++b) {
     const std::size_t qb = p * npp + b;
@@ -98,11 +115,16 @@ void add_point_blocks(const BlockTerms& t, std::size_t p) {
       const double Na = t.s.weights[qa];
       double grad_dot = 0;
       for (int i = 0; i < dim; ++i) {
-        B[i * w + dim] -= V * ga[i] * Nb;
-        B[dim * w + i] -= V * gb[i] * Na;
+        B[i * w + dim] -= coupling * V * ga[i] * Nb;
+        B[dim * w + i] -= volume * V * gb[i] * Na;
         grad_dot += ga[i] * gb[i];
       }
       B[dim * w + dim] -= storage * Na * Nb + flow * grad_dot;
+      if (drift) {
+        double along = 0;
+        for (int i = 0; i < dim; ++i) along += ga[i] * drift[i];
+        B[dim * w + dim] -= t.dt * V * along * Nb;
+      }
     }
   }
 }
@@ -180,7 +202,7 @@ void QuasiStatic::assemble(double dt) {
   const double* KL = mixture_ ? pts.data(mixture_->fields().bulk_modulus) : nullptr;
   const double* K = mixture_ ? pts.data(mixture_->fields().conductivity) : nullptr;
   const double* rho_w = mixture_ ? pts.data(mixture_->fields().water_density) : nullptr;
-  linear_->symmetric = symmetric_tangents(tangent_);
+  linear_->symmetric = !phreatic_ && symmetric_tangents(tangent_);
   // The creep term, from the points without stiffness at this iterate, or
   // without it in some direction (a cohesionless point separated across a
   // plane: coupling::separated_directions): eps V M |grad N|^2 on the
@@ -214,7 +236,11 @@ void QuasiStatic::assemble(double dt) {
   // The blocks: row and column i < dim the displacement components, dim the pressure.
   const int w = dim + 1, bsize = w * w;
   std::fill(blocks_.begin(), blocks_.end(), 0.0);
-  const BlockTerms terms{s,  tangent_.data(), V, n, KL, K, rho_w, point_nodes_ijk_.data(), block_node_.data(),
+  const bool drains = phreatic_ && !coupling_.empty();
+  const BlockTerms terms{s, tangent_.data(), V, n, KL, K, rho_w,
+                         drains ? coupling_.data() : nullptr, drains ? saturation_.data() : nullptr,
+                         drains ? capacity_.data() : nullptr, drains ? relative_.data() : nullptr,
+                         drains ? drift_.data() : nullptr, point_nodes_ijk_.data(), block_node_.data(),
                          stencil_radius_, stencil_width_, stencil_slots_, dt, blocks_.data(), block_used_.data()};
   for (std::size_t p = 0; p < pts.size(); ++p) dim == 2 ? add_point_blocks<2>(terms, p) : add_point_blocks<3>(terms, p);
   // Blocks to the sparse matrix: every entry of a used block between two

@@ -86,24 +86,37 @@ void QuasiStatic::find_free_surfaces() {
     }
   }
   extrapolated_.clear();
+  if (phreatic_) seepage_node_.assign(nn, 0);
   for (std::size_t I = 0; I < nn; ++I)
     if (surface[I]) {
-      fixed_pressure_[I] = 1;
       // Drained (zero), or below a water level the water's pressure.
-      p_[I] = water_ ? water_pressure(d_.grid.node_position(static_cast<std::int64_t>(I))) : 0.0;
-      if (auto e = extrapolation(I)) {
-        if (water_) {
-          // Where the surface crosses the line from the inner node M through
-          // I: M + (I - M) / (1 - factor) (the factor puts p = 0 there).
-          const auto xI = d_.grid.node_position(static_cast<std::int64_t>(I));
-          const auto xM = d_.grid.node_position(static_cast<std::int64_t>(e->from));
-          std::array<double, 3> at{};
-          for (int a = 0; a < dim; ++a) at[a] = xM[a] + (xI[a] - xM[a]) / (1 - e->factor);
-          e->offset = (1 - e->factor) * water_pressure(at);
-        }
-        extrapolated_.push_back(*e);
+      const double at_node = water_ ? water_pressure(d_.grid.node_position(static_cast<std::int64_t>(I))) : 0.0;
+      double at_surface = at_node;
+      auto e = extrapolation(I);
+      if (e && water_) {
+        // Where the surface crosses the line from the inner node M through
+        // I: M + (I - M) / (1 - factor) (the factor puts p = 0 there).
+        const auto xI = d_.grid.node_position(static_cast<std::int64_t>(I));
+        const auto xM = d_.grid.node_position(static_cast<std::int64_t>(e->from));
+        std::array<double, 3> at{};
+        for (int a = 0; a < dim; ++a) at[a] = xM[a] + (xI[a] - xM[a]) / (1 - e->factor);
+        at_surface = water_pressure(at);
+        e->offset = (1 - e->factor) * at_surface;
       }
+      // Above the water levels, where pores drain, the surface is a seepage
+      // face: drained where water leaves, closed where it would enter
+      // (settle_seepage_faces). A closed node has an unknown of its own and
+      // no flux.
+      if (phreatic_ && at_surface == 0) {
+        seepage_node_[I] = 1;
+        if (seepage_closed_[I]) continue;
+      }
+      fixed_pressure_[I] = 1;
+      p_[I] = at_node;
+      if (e) extrapolated_.push_back(*e);
     }
+  if (phreatic_)  // a node no longer on a seepage face starts open when it returns to one
+    for (std::size_t I = 0; I < nn; ++I) seepage_closed_[I] = seepage_closed_[I] && seepage_node_[I];
 }
 
 double QuasiStatic::water_pressure(const std::array<double, 3>& x) const {

@@ -59,6 +59,8 @@ void QuasiStatic::update_points(double dt) {
   const double* L = pts.data(c.velocity_gradient);
   const double* V = pts.data(c.volume);
   const auto& g = scene_.gravity;
+  double* saturation = phreatic_ ? pts.data(*mf.saturation) : nullptr;
+  const double* material = pts.data(c.material_id);
   std::vector<double>& node_q = mixture_->nodal_darcy_flux();
   std::fill(node_q.begin(), node_q.end(), 0.0);
   std::fill(node_volume_.begin(), node_volume_.end(), 0.0);
@@ -70,6 +72,15 @@ void QuasiStatic::update_points(double dt) {
       pp += s.weights[k] * p_[s.ids[k]];
       for (int i = 0; i < dim; ++i) grad_p[i] += s.gradients[k * dim + i] * p_[s.ids[k]];
     }
+    // Where the pores drain, pp is the potential psi: the pressure is its
+    // positive part, and the saturation and conductivity follow it.
+    double k_r = 1;
+    if (const std::optional<Drainage>* drains = phreatic_ ? &drainage_[static_cast<std::size_t>(material[p])] : nullptr;
+        drains && *drains) {
+      saturation[p] = (*drains)->saturation(pp, rho_w[p]);
+      k_r = (*drains)->relative_conductivity(saturation[p]);
+      pp = std::max(pp, 0.0);
+    }
     rate[p] = (pp - pressure[p]) / dt;
     pressure[p] = pp;
     const double n0 = n[p];
@@ -79,7 +90,7 @@ void QuasiStatic::update_points(double dt) {
     if (!(n[p] > 0))
       throw Error("material point " + std::to_string(p) + " was compressed to porosity " + std::to_string(n[p]) +
                   ": its grains cannot be compressed; shorten /time/dt or check the loads");
-    const double k = K[p] / (rho_w[p] * reference_gravity);
+    const double k = K[p] / (rho_w[p] * reference_gravity) * k_r;
     for (int i = 0; i < dim; ++i) q[p * dim + i] = -k * (grad_p[i] - rho_l[p] * g[i]);  // projected below
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k2 = p * s.npp + a;

@@ -5,6 +5,32 @@ namespace suffuse::detail {
 
 namespace {
 
+ParameterSchema phreatic_schema() {
+  ParameterSchema s;
+  s.number("drainage_head").with_unit("m").above(0).fallback(0.05).doc(
+      "Above the phreatic surface: the pressure head below zero over which the pores drain, S = exp(psi / "
+      "(gamma_w drainage_head)); smaller gives a sharper phreatic surface (docs/phreatic.md)");
+  s.number("residual_conductivity").with_unit("-").above(0).at_most(1).fallback(1e-3).doc(
+      "Relative conductivity of drained pores, k_r = residual + (1 - residual) S^3: what still flows above the "
+      "phreatic surface, the method's known error (docs/phreatic.md)");
+  return s;
+}
+
+void read_phreatic(SceneReader& r, const Json& node, const std::string& ptr, const Scene& scene, MaterialSpec& m) {
+  const Parameters p = validate_object(node, phreatic_schema(), ptr, "core (material)", r.dim, r.diags);
+  if (scene.integration != TimeIntegration::quasi_static) {
+    r.error(ptr, "a phreatic surface in an explicit run",
+            "a quasi-static run (/time/integration \"quasi_static\"): pores that drain above the phreatic surface are "
+            "not yet in explicit runs (docs/phreatic.md)",
+            "\"explicit\" (/time/integration)", "core (material)");
+    return;
+  }
+  DrainageSpec d;
+  if (p.has("drainage_head")) d.drainage_head = p.number("drainage_head");
+  if (p.has("residual_conductivity")) d.residual_conductivity = p.number("residual_conductivity");
+  m.phreatic = d;
+}
+
 void read_materials(SceneReader& r, Scene& scene) {
   if (!r.require("materials")) return;
   const Json& materials = r.root["materials"];
@@ -16,11 +42,12 @@ void read_materials(SceneReader& r, Scene& scene) {
     MaterialSpec m;
     m.name = name;
     const std::string ptr = pointer_append("/materials", name);
-    read_phase(r, node, ptr, {"permeability", "erosion"}, m.phase, m.base);
+    read_phase(r, node, ptr, {"permeability", "erosion", "phreatic"}, m.phase, m.base);
     if (node.is_object() && node.contains("permeability"))
       m.permeability = r.plugin_node(node["permeability"], ptr + "/permeability", PluginKind::PermeabilityLaw);
     if (node.is_object() && node.contains("erosion"))
       m.erosion = r.plugin_node(node["erosion"], ptr + "/erosion", PluginKind::ErosionLaw);
+    if (node.is_object() && node.contains("phreatic")) read_phreatic(r, node["phreatic"], ptr + "/phreatic", scene, m);
     scene.materials.push_back(std::move(m));
   }
 }
@@ -64,9 +91,11 @@ void read_phase(SceneReader& r, const Json& node, const std::string& ptr, std::s
 }
 
 SceneSection materials_section() {
-  return {"materials", "",
-          "Named materials: a phase plugin node each, with optional permeability and erosion law nodes", nullptr,
-          read_materials};
+  return {"materials", "phreatic",
+          "A material's optional \"phreatic\" node (/materials/NAME/phreatic, beside its phase's parameters, "
+          "\"permeability\" and \"erosion\"): its pores drain above the phreatic surface, in quasi-static runs "
+          "(docs/phreatic.md)",
+          phreatic_schema, read_materials};
 }
 
 SceneSection liquids_section() {

@@ -1,0 +1,43 @@
+#pragma once
+// Pores that drain above the phreatic surface (docs/phreatic.md): the water
+// is described by one potential per point, psi, the pore pressure where the
+// pores are full (psi >= 0) and below zero where they drain. The skeleton
+// feels max(psi, 0): no suction holds it. The pores hold the water
+//   S(psi) = 1                                   psi >= 0
+//          = exp(psi / (gamma_w h_d))           psi <  0
+// (Gardner's exponential, h_d the drainage head), and the water flows with
+// the conductivity's relative factor k_r = r + (1 - r) S^3, r the residual.
+// Drained pores (S near 0) still pass r K: the method's known error, with
+// the fringe of height about h_d where S falls from 1.
+#include <algorithm>
+#include <cmath>
+
+#include "suffuse/liquid.hpp"
+#include "suffuse/scene.hpp"
+
+namespace suffuse::detail {
+
+struct Drainage {
+  double head = 0.05, residual = 1e-3;  // h_d [m]; r [-]
+
+  explicit Drainage(const DrainageSpec& d) : head(d.drainage_head), residual(d.residual_conductivity) {}
+
+  // gamma_w h_d [Pa] for clean water of density rho_w.
+  double pressure_scale(double rho_w) const { return rho_w * reference_gravity * head; }
+  double saturation(double psi, double rho_w) const { return psi >= 0 ? 1.0 : std::exp(psi / pressure_scale(rho_w)); }
+  // dS / dpsi [1/Pa].
+  double capacity(double psi, double rho_w) const {
+    return psi >= 0 ? 0.0 : std::exp(psi / pressure_scale(rho_w)) / pressure_scale(rho_w);
+  }
+  double relative_conductivity(double saturation) const {
+    return residual + (1 - residual) * saturation * saturation * saturation;
+  }
+  // dk_r / dS.
+  double conductivity_slope(double saturation) const { return 3 * (1 - residual) * saturation * saturation; }
+  // psi of a point from its pore pressure and saturation (the fields it keeps).
+  double potential(double pressure, double saturation, double rho_w) const {
+    return saturation < 1 ? pressure_scale(rho_w) * std::log(std::max(saturation, 1e-300)) : pressure;
+  }
+};
+
+}  // namespace suffuse::detail
