@@ -25,8 +25,8 @@ struct PluginNode {
 
 // A soil whose pores drain above the phreatic surface (docs/phreatic.md):
 // above it the pore pressure is zero and the pores hold water by a retention
-// curve of the pressure head psi / gamma_w below zero, exp(psi / (gamma_w
-// drainage_head)), with the conductivity's relative factor residual +
+// curve of the water potential psi below zero, S = 1 / (1 + (psi / (gamma_w
+// drainage_head))^2), with the conductivity's relative factor residual +
 // (1 - residual) S^3.
 struct DrainageSpec {
   double drainage_head = 0.05;           // [m] the head over which the pores drain

@@ -4,11 +4,15 @@
 // pores are full (psi >= 0) and below zero where they drain. The skeleton
 // feels max(psi, 0): no suction holds it. The pores hold the water
 //   S(psi) = 1                                   psi >= 0
-//          = exp(psi / (gamma_w h_d))           psi <  0
-// (Gardner's exponential, h_d the drainage head), and the water flows with
-// the conductivity's relative factor k_r = r + (1 - r) S^3, r the residual.
-// Drained pores (S near 0) still pass r K: the method's known error, with
-// the fringe of height about h_d where S falls from 1.
+//          = 1 / (1 + (psi / (gamma_w h_d))^2)  psi <  0
+// (van Genuchten's curve with n = 2, m = 1; h_d the drainage head), whose
+// slope is zero at psi = 0 from both sides: Newton's iterations cross the
+// phreatic surface without the jump of storage an exponential curve has
+// there (from n / (gamma_w h_d) to n / K_L, seven orders). The water flows
+// with the conductivity's relative factor k_r = r + (1 - r) S^3, r the
+// residual. Drained pores (S near 0) still pass r K, and the fringe above
+// the phreatic surface, where S falls from 1 over a few h_d, passes about
+// 0.59 h_d K (the integral of S^3): the method's known errors.
 #include <algorithm>
 #include <cmath>
 
@@ -24,10 +28,16 @@ struct Drainage {
 
   // gamma_w h_d [Pa] for clean water of density rho_w.
   double pressure_scale(double rho_w) const { return rho_w * reference_gravity * head; }
-  double saturation(double psi, double rho_w) const { return psi >= 0 ? 1.0 : std::exp(psi / pressure_scale(rho_w)); }
+  double saturation(double psi, double rho_w) const {
+    if (psi >= 0) return 1.0;
+    const double x = psi / pressure_scale(rho_w);
+    return 1 / (1 + x * x);
+  }
   // dS / dpsi [1/Pa].
   double capacity(double psi, double rho_w) const {
-    return psi >= 0 ? 0.0 : std::exp(psi / pressure_scale(rho_w)) / pressure_scale(rho_w);
+    if (psi >= 0) return 0.0;
+    const double s = pressure_scale(rho_w), x = psi / s, d = 1 + x * x;
+    return -2 * x / (s * d * d);
   }
   double relative_conductivity(double saturation) const {
     return residual + (1 - residual) * saturation * saturation * saturation;
@@ -36,7 +46,7 @@ struct Drainage {
   double conductivity_slope(double saturation) const { return 3 * (1 - residual) * saturation * saturation; }
   // psi of a point from its pore pressure and saturation (the fields it keeps).
   double potential(double pressure, double saturation, double rho_w) const {
-    return saturation < 1 ? pressure_scale(rho_w) * std::log(std::max(saturation, 1e-300)) : pressure;
+    return saturation < 1 ? -pressure_scale(rho_w) * std::sqrt(1 / std::max(saturation, 1e-300) - 1) : pressure;
   }
 };
 

@@ -8,8 +8,8 @@ namespace {
 ParameterSchema phreatic_schema() {
   ParameterSchema s;
   s.number("drainage_head").with_unit("m").above(0).fallback(0.05).doc(
-      "Above the phreatic surface: the pressure head below zero over which the pores drain, S = exp(psi / "
-      "(gamma_w drainage_head)); smaller gives a sharper phreatic surface (docs/phreatic.md)");
+      "Above the phreatic surface: the pressure head below zero over which the pores drain, S = 1 / (1 + (psi / "
+      "(gamma_w drainage_head))^2); smaller gives a sharper phreatic surface (docs/phreatic.md)");
   s.number("residual_conductivity").with_unit("-").above(0).at_most(1).fallback(1e-3).doc(
       "Relative conductivity of drained pores, k_r = residual + (1 - residual) S^3: what still flows above the "
       "phreatic surface, the method's known error (docs/phreatic.md)");
