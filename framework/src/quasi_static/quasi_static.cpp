@@ -34,7 +34,7 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
                                                     : std::nullopt);
   }
   phreatic_ = mixture_ && scene.phreatic();
-  if (phreatic_) seepage_closed_.assign(nn, 0);
+  if (phreatic_) seepage_closed_.assign(nn, 0), seepage_switched_.assign(nn, 0);
   std::size_t cells = 1;
   for (int a = 0; a < dim; ++a) cells *= static_cast<std::size_t>(d_.grid.cells()[a]);
   cell_count_.assign(cells, 0.0);

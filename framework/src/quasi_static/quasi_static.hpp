@@ -126,11 +126,6 @@ class QuasiStatic {
   // fluidised bed) its deformation is the creep term's, not a prediction
   // (docs/time-integration.md, Fluidisation).
   std::size_t creep_held_points() const { return creep_held_points_; }
-  // Scenes with a phreatic surface: the seepage-face nodes the last step
-  // left closed (water would have entered there), and the rounds of the
-  // step's solve it took to settle which (docs/phreatic.md).
-  std::size_t closed_seepage_nodes() const;
-  int seepage_rounds() const { return seepage_rounds_; }
 
  private:
   struct Linear;  // the sparse system and its factorisation
@@ -224,6 +219,7 @@ class QuasiStatic {
   // Per node: a free-surface node above the water levels, a seepage face,
   // drained where water leaves; 1 where it is closed (water would enter).
   std::vector<char> seepage_node_, seepage_closed_, seepage_switched_;  // switched: within this step
+  std::vector<double> drains_;  // per node: sum N of the wet points whose pores drain
   int seepage_rounds_ = 0;
   std::vector<double> water_terms_;          // per node, evaluate's work array
   double water_norm_ = 0, water_scale_ = 0;  // the pressure equations' residual, and the size of their terms

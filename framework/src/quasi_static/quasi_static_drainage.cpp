@@ -57,7 +57,7 @@ void QuasiStatic::add_drained_point_terms(const Drainage& drains, std::size_t p,
 
 bool QuasiStatic::settle_seepage_faces() {
   // Round-off must not switch a node: a face's flux within 1e-9 of its
-  // terms, or a pressure within 1e-9 of the drainage's scale, is none.
+  // terms, or a pressure within 1e-9 of the largest, is none.
   double pressure_scale = 0;
   for (const double p : p_) pressure_scale = std::max(pressure_scale, std::abs(p));
   // A node switches at most once per step: one that would switch back
@@ -78,10 +78,6 @@ bool QuasiStatic::settle_seepage_faces() {
     changed = true;
   }
   return changed;
-}
-
-std::size_t QuasiStatic::closed_seepage_nodes() const {
-  return static_cast<std::size_t>(std::count(seepage_closed_.begin(), seepage_closed_.end(), 1));
 }
 
 }  // namespace suffuse::detail

@@ -106,16 +106,20 @@ void QuasiStatic::find_free_surfaces() {
       // Above the water levels, where pores drain, the surface is a seepage
       // face: drained where water leaves, closed where it would enter
       // (settle_seepage_faces). A closed node has an unknown of its own and
-      // no flux.
-      if (phreatic_ && at_surface == 0) {
+      // no flux. A step starts with the nodes closed whose potential,
+      // projected from the points, is below zero (the water would be drawn
+      // in): a function of the points' state, so that a halved step and a
+      // restarted run start alike, and the faces settle in few rounds.
+      if (phreatic_ && at_surface == 0 && drains_[I] > 0) {
         seepage_node_[I] = 1;
+        if (seepage_rounds_ == 1) seepage_closed_[I] = p_[I] < 0;
         if (seepage_closed_[I]) continue;
       }
       fixed_pressure_[I] = 1;
       p_[I] = at_node;
       if (e) extrapolated_.push_back(*e);
     }
-  if (phreatic_)  // a node no longer on a seepage face starts open when it returns to one
+  if (phreatic_)
     for (std::size_t I = 0; I < nn; ++I) seepage_closed_[I] = seepage_closed_[I] && seepage_node_[I];
 }
 

@@ -33,8 +33,9 @@ void QuasiStatic::prepare(double time, double dt) {
   // Drained pores weigh what water they hold; their potential psi is what
   // the old pressures' storage and the first iterate start from.
   const double* saturation = phreatic_ ? pts.data(*mixture_->fields().saturation) : nullptr;
+  const double* material = pts.data(c.material_id);
   if (phreatic_) {
-    const double* material = pts.data(c.material_id);
+    drains_.assign(nn, 0.0);
     const double* rho_w = pts.data(mixture_->fields().water_density);
     potential_.assign(pts.size(), 0.0);
     for (std::size_t p = 0; p < pts.size(); ++p) {
@@ -72,6 +73,7 @@ void QuasiStatic::prepare(double time, double dt) {
           inertia_target_[I * dim + i] += N * weight * v[p * dim + i];
         }
       if (!wet) continue;
+      if (saturation && drainage_[static_cast<std::size_t>(material[p])]) drains_[I] += N;
       node_pore_[I] += N * n[p] * V[p];
       node_volume_[I] += N * V[p];
       p_[I] += N * V[p] * (phreatic_ ? potential_[p] : pressure[p]);
@@ -87,6 +89,7 @@ void QuasiStatic::prepare(double time, double dt) {
   }
   for (auto* sums : {&node_mass_, &node_cover_, &f_ext_, &node_pore_, &node_volume_, &p_, &cell_count_})
     sum_over_processes(*sums);
+  if (phreatic_) sum_over_processes(drains_);
   // Inertia: M (du - dt v0) / dt^2 in each displacement equation, v0 the
   // nodal velocity at the start of the step (mass-weighted).
   if (inertia) {
@@ -204,7 +207,6 @@ void QuasiStatic::prepare(double time, double dt) {
   const double* K = pts.data(mf.conductivity);
   const double* rho_w = pts.data(mf.water_density);
   const double* rho_l = pts.data(mf.liquid_density);
-  const double* material = pts.data(c.material_id);
   for (std::size_t p = 0; p < pts.size(); ++p) {
     if (!(n[p] > 0)) continue;
     // Pores that drain: the water they held, n (psi / K_L + S - 1) V; the
