@@ -16,6 +16,7 @@
 namespace {
 
 using nlohmann::json;
+using suffuse::test::flow_through;
 using suffuse::test::scene_from;
 
 // A rectangular dam L = 1 m long and 1 m high with vertical faces on an
@@ -44,19 +45,6 @@ json rectangular_dam(double h) {
   scene["grid"]["cell_size"] = {h, h};
   scene["grid"]["cells"] = {static_cast<int>(std::lround(1.4 / h)), static_cast<int>(std::lround(1.2 / h))};
   return scene;
-}
-
-// The flow per metre [m^2/s] through the vertical strip of two cells about
-// x: sum V q_x over the strip's width.
-double flow_through(const suffuse::Simulation& sim, double x0, double h) {
-  const auto& pts = sim.points();
-  const double* x = pts.data(pts.core().position);
-  const double* V = pts.data(pts.core().volume);
-  const double* q = pts.data(pts.id("darcy_flux"));
-  double sum = 0;
-  for (std::size_t p = 0; p < pts.size(); ++p)
-    if (std::abs(x[2 * p] - x0) < h) sum += V[p] * q[2 * p];
-  return sum / (2 * h);
 }
 
 // The highest saturated point of the dam's last column of points that

@@ -13,6 +13,7 @@
 namespace {
 
 using nlohmann::json;
+using suffuse::test::flow_through;
 using suffuse::test::scene_from;
 
 // A permeable layer T = 1 m deep on an impervious stratum, 9 m wide between
@@ -48,20 +49,6 @@ json confined_flow(double h) {
   return scene;
 }
 
-// The flow under the base per metre [m^2/s]: the Darcy flux q_x of the
-// points within a strip of two cells about x = 0, times their volume, over
-// the strip's width.
-double flow_under_the_base(const suffuse::Simulation& sim, double h) {
-  const auto& pts = sim.points();
-  const double* x = pts.data(pts.core().position);
-  const double* V = pts.data(pts.core().volume);
-  const double* q = pts.data(pts.id("darcy_flux"));
-  double sum = 0;
-  for (std::size_t p = 0; p < pts.size(); ++p)
-    if (std::abs(x[2 * p]) < h) sum += q[2 * p] * V[p];
-  return sum / (2 * h);
-}
-
 }  // namespace
 
 // Harr (Groundwater and Seepage, 1962), by conformal mapping: the flow under
@@ -84,7 +71,7 @@ TEST(Seepage, ConfinedFlowUnderAFlatBaseAsHarr) {
     const suffuse::Scene s = scene_from(confined_flow(sizes[r]), registry);
     suffuse::Simulation sim(s, registry);
     while (sim.time() < s.end_time - 0.5 * sim.dt()) sim.step();
-    error[r] = flow_under_the_base(sim, sizes[r]) / harr - 1;
+    error[r] = flow_through(sim, 0.0, sizes[r]) / harr - 1;
     EXPECT_LT(sim.mass_ledger().liquid_imbalance(), 1e-12) << "h = " << sizes[r];
     RecordProperty("relative_error_h" + std::to_string(r), std::to_string(error[r]));
   }

@@ -131,6 +131,19 @@ inline Scene scene_from(const nlohmann::json& j, Registry& registry) {
   return parse_scene(j.dump(), "test.json", source_dir(), registry, loader);
 }
 
+// The flow per metre [m^2/s] of a 2D saturated run through the vertical
+// strip of two cells of width h about x0: sum V q_x over the strip's width.
+inline double flow_through(const Simulation& sim, double x0, double h) {
+  const PointSet& pts = sim.points();
+  const double* x = pts.data(pts.core().position);
+  const double* V = pts.data(pts.core().volume);
+  const double* q = pts.data(pts.id("darcy_flux"));
+  double sum = 0;
+  for (std::size_t p = 0; p < pts.size(); ++p)
+    if (std::abs(x[2 * p] - x0) < h) sum += V[p] * q[2 * p];
+  return sum / (2 * h);
+}
+
 // What building the run of a valid scene refuses (a check that needs the
 // grid or the conditions set up), or "(accepted)".
 inline std::string setup_error(const nlohmann::json& j) {
