@@ -324,6 +324,53 @@ TEST(Geometry, PointsFromAFile) {
 }
 
 namespace {
+// VTK XML polygonal data in ASCII: points (x, y, z per point) and, if
+// given, a point-data array "volume".
+void write_vtp(const fs::path& file, const std::string& points, std::size_t count, const std::string& volumes) {
+  std::ofstream out(file);
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "<PolyData><Piece NumberOfPoints=\"" << count
+      << "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n<PointData>";
+  if (!volumes.empty()) out << "<DataArray type=\"Float64\" Name=\"volume\" format=\"ascii\">" << volumes << "</DataArray>";
+  out << "</PointData>\n<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">" << points
+      << "</DataArray></Points>\n</Piece></PolyData>\n</VTKFile>\n";
+}
+}  // namespace
+
+// The same points from a VTK .vtp file (as the points writer writes them):
+// the same body as from the CSV file; a file without volumes, or with a
+// point off the plane of a 2D scene, is refused naming it.
+TEST(Geometry, PointsFromAVtpFile) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_geometry_points_vtp";
+  fs::create_directories(dir);
+  write_vtp(dir / "points.vtp", "0.1 0.1 0  0.3 0.125 0  0.55 0.6 0  0.9 0.9 0", 4, "0.0004 0.0009 0.0001 0.0016");
+  std::ofstream(dir / "points.csv") << "x [cm], y [cm], volume [m^2]\n10, 10, 0.0004\n30, 12.5, 0.0009\n"
+                                       "55, 60, 0.0001\n90, 90, 0.0016\n";
+  const json box = {{"material", "clay"}, {"min", {0.5, 0.5}}, {"max", {1.0, 1.0}}};
+  auto seeded = [&](const fs::path& file) {
+    const json body = {{"material", "soil"}, {"points_file", file.string()}};
+    const Seeded s(scene_with(2, 10, json::array({box, body})));
+    const suffuse::PointSet& pts = s.points();
+    std::vector<double> rows;
+    for (const char* field : {"position", "volume", "size"}) {
+      const auto v = pts.values(pts.id(field));
+      rows.insert(rows.end(), v.begin(), v.end());
+    }
+    return rows;
+  };
+  const std::vector<double> from_vtp = seeded(dir / "points.vtp"), from_csv = seeded(dir / "points.csv");
+  EXPECT_EQ(from_vtp.size(), (5u * 5u * 4u + 2u) * 5u) << "the box's 100 points and 2 of the file's 4";
+  EXPECT_EQ(from_vtp, from_csv);
+
+  write_vtp(dir / "no_volume.vtp", "0.1 0.1 0", 1, "");
+  write_vtp(dir / "off_plane.vtp", "0.1 0.1 0  0.2 0.2 0.5", 2, "0.001 0.001");
+  write_vtp(dir / "negative.vtp", "0.1 0.1 0  0.2 0.2 0", 2, "0.001 -0.001");
+  expect_file_refused("points_file", dir / "no_volume.vtp", "no_volume.vtp: no volumes");
+  expect_file_refused("points_file", dir / "off_plane.vtp", "off_plane.vtp: point 1 out of the plane");
+  expect_file_refused("points_file", dir / "negative.vtp", "negative.vtp, point 1: volume not positive");
+}
+
+namespace {
 
 // A sphere of radius r about c as an ASCII STL of `rings` x 2 `rings`
 // triangles (two caps of triangles, quadrilaterals split in two between),

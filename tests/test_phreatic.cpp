@@ -190,7 +190,7 @@ TEST(Phreatic, ToeDrainLeveeFollowsKozenysParabolaNearTheDrain) {
 // h = sqrt(y0) Im sqrt(2 (x - x_F + i y)), the phreatic surface the basic
 // parabola y^2 = y0^2 - 2 y0 (x - x_F), the flow q = k y0. Here H = 0.8 m,
 // y0 = 0.25 m, x_F = 1.5 m; above the water the face goes on to a crest at
-// 1 m, and a 1:2 slope comes down past the drain's start.
+// 1 m, and a 1:1 slope comes down past the drain's start.
 double kozeny_head(double x, double y, double x_F, double y0) {
   const std::complex<double> z(x - x_F, y);
   return std::sqrt(y0) * std::sqrt(2.0 * z).imag();
@@ -199,20 +199,20 @@ double kozeny_head(double x, double y, double x_F, double y0) {
 json kozeny_levee(double h, double drainage_head) {
   const double H = 0.8, y0 = 0.25, x_F = 1.5;
   json scene = levee_with_toe_drain(h);
-  scene["grid"]["cells"] = {static_cast<int>(std::lround(3.2 / h)), static_cast<int>(std::lround(1.1 / h))};
+  scene["grid"]["cells"] = {static_cast<int>(std::lround(2.4 / h)), static_cast<int>(std::lround(1.1 / h))};
   json polygon = json::array();
   for (double y = 1.0; y > -1e-9; y -= 0.025)  // the upstream face, top down
     polygon.push_back({x_F + y * y * y0 / (2 * H * H) - H * H / (2 * y0), std::max(y, 0.0)});
-  polygon.push_back({x_F + 1.4, 0.0});
-  polygon.push_back({x_F - 0.6, 1.0});
+  polygon.push_back({x_F + 0.6, 0.0});
+  polygon.push_back({x_F - 0.4, 1.0});
   scene["bodies"][0]["polygon"] = polygon;
   scene["bodies"][0]["water_table"] = H;
   scene["materials"]["sand"]["phreatic"]["drainage_head"] = drainage_head;
   const double meets = x_F + y0 / 2 - H * H / (2 * y0);  // where the water meets the face
   scene["boundary_conditions"][1]["box_min"] = {x_F, 0.0};
-  scene["boundary_conditions"][1]["box_max"] = {3.2, 0.0};
+  scene["boundary_conditions"][1]["box_max"] = {2.4, 0.0};
   scene["boundary_conditions"][2]["to"] = meets;
-  scene["boundary_conditions"][3]["from"] = x_F - 0.6;
+  scene["boundary_conditions"][3]["from"] = x_F - 0.4;
   return scene;
 }
 

@@ -5,16 +5,34 @@
 
 namespace suffuse::detail {
 
-SurfaceSeeds seed_surface(const std::filesystem::path& file, const SurfaceLattice& lattice) {
-  // Loaded once, never unloaded (PluginLoader::load_module).
-  static SeedSurfaceEntry* const seed = [] {
+namespace {
+// The module's entries, loaded once, never unloaded (PluginLoader::load_module).
+struct SurfaceModule {
+  SeedSurfaceEntry* seed;
+  ReadPointsEntry* read_points;
+};
+
+const SurfaceModule& surface_module() {
+  static const SurfaceModule module = [] {
     const auto at = PluginLoader::load_module("libsuffuse_surfaces.so", "surface module",
-                                              "suffuse_surface_module_version", {"suffuse_surface_seed"});
-    return reinterpret_cast<SeedSurfaceEntry*>(at[0]);
+                                              "suffuse_surface_module_version",
+                                              {"suffuse_surface_seed", "suffuse_points_read"});
+    return SurfaceModule{reinterpret_cast<SeedSurfaceEntry*>(at[0]), reinterpret_cast<ReadPointsEntry*>(at[1])};
   }();
+  return module;
+}
+}  // namespace
+
+SurfaceSeeds seed_surface(const std::filesystem::path& file, const SurfaceLattice& lattice) {
   SurfaceSeeds seeds;
-  seed(file, lattice, seeds);
+  surface_module().seed(file, lattice, seeds);
   return seeds;
+}
+
+std::vector<double> read_vtp_points(const std::filesystem::path& file, int dim) {
+  std::vector<double> rows;
+  surface_module().read_points(file, dim, rows);
+  return rows;
 }
 
 }  // namespace suffuse::detail

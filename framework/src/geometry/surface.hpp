@@ -1,6 +1,6 @@
 #pragma once
 // Bodies inside closed triangulated surfaces (3D: STL or VTK .vtp files;
-// docs/geometry.md). VTK reads the file, checks that it is closed and tells
+// docs/geometry.md), and bodies of points from .vtp files. VTK reads the file, checks that it is closed and tells
 // which points of the grid's lattice are inside (vtkSelectEnclosedPoints),
 // in a module loaded when a scene has such a body (surface_module.cpp): the
 // core itself never maps VTK's libraries.
@@ -32,7 +32,14 @@ struct SurfaceSeeds {
 // the grid, or holding no lattice point.
 SurfaceSeeds seed_surface(const std::filesystem::path& file, const SurfaceLattice& lattice);
 
-// The module's entry (surface_module.cpp).
+// A body's points from a VTK XML polygonal data file (.vtp): a row (the dim
+// coordinates, the volume) per point, from its points and its point-data
+// array "volume". Throws suffuse::Error naming the file: unreadable, no
+// point, no such array, or (2D) a point off the plane z = 0.
+std::vector<double> read_vtp_points(const std::filesystem::path& file, int dim);
+
+// The module's entries (surface_module.cpp).
 using SeedSurfaceEntry = void(const std::filesystem::path& file, const SurfaceLattice& lattice, SurfaceSeeds& seeds);
+using ReadPointsEntry = void(const std::filesystem::path& file, int dim, std::vector<double>& rows);
 
 }  // namespace suffuse::detail

@@ -1,10 +1,12 @@
 // The surface module (surface.hpp): VTK's readers, its closedness check and
-// its inside test, behind one entry the core calls through
-// PluginLoader::load_module.
+// its inside test, behind the entries the core calls through
+// PluginLoader::load_module (a surface's seeds; a .vtp file's points).
 #include <vtkCellArray.h>
+#include <vtkDataArray.h>
 #include <vtkFeatureEdges.h>
 #include <vtkNew.h>
 #include <vtkOBBTree.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkPolyData.h>
@@ -155,6 +157,34 @@ extern "C" void suffuse_surface_seed(const fs::path& file, const suffuse::detail
                 text(spacing[0]) + " m apart), found none");
 }
 
+// A body's points from VTK XML polygonal data: the file's points (z zero
+// in 2D) and its point-data array "volume", one component.
+extern "C" void suffuse_points_read(const fs::path& file, int dim, std::vector<double>& rows) {
+  if (!fs::is_regular_file(file)) throw Error(file.string() + ": no such file");
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkPolyData* data = reader->GetOutput();
+  const vtkIdType n = data ? data->GetNumberOfPoints() : 0;
+  if (n == 0) throw Error(file.string() + ": no point: expected VTK XML polygonal data with points, found none");
+  vtkDataArray* volume = data->GetPointData()->GetArray("volume");
+  if (!volume || volume->GetNumberOfComponents() != 1)
+    throw Error(file.string() + ": no volumes: expected a point-data array \"volume\" of one component (m^" +
+                std::to_string(dim) + ")" + (volume ? ", found one of " + std::to_string(volume->GetNumberOfComponents())
+                                                    : ", found none"));
+  rows.clear();
+  rows.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(dim + 1));
+  for (vtkIdType k = 0; k < n; ++k) {
+    const double* x = data->GetPoint(k);
+    if (dim == 2 && x[2] != 0)
+      throw Error(file.string() + ": point " + std::to_string(k) + " out of the plane: expected z = 0 in 2D, found " +
+                  text(x[2]));
+    for (int a = 0; a < dim; ++a) rows.push_back(x[a]);
+    rows.push_back(volume->GetTuple1(k));
+  }
+}
+
 extern "C" const char* suffuse_surface_module_version() { return suffuse::framework_version; }
 
 static_assert(std::is_same_v<decltype(suffuse_surface_seed), suffuse::detail::SeedSurfaceEntry>);
+static_assert(std::is_same_v<decltype(suffuse_points_read), suffuse::detail::ReadPointsEntry>);

@@ -1,5 +1,8 @@
 // Bodies: boxes and polygons of material points, dry or saturated, with
 // their initial state.
+#include <algorithm>
+#include <cctype>
+
 #include "geometry/polygon.hpp"
 #include "common/unit_table.hpp"
 #include "geometry/surface.hpp"
@@ -30,7 +33,8 @@ ParameterSchema body_schema() {
   s.string("points_file").may_be_absent().doc(
       "A body of points generated elsewhere, instead of a shape: a CSV file relative to the scene, a header with "
       "units (\"x [m], y [m], volume [m^2]\" in 2D, \"x [m], y [m], z [m], volume [m^3]\" in 3D; lengths in m, cm or "
-      "mm) and a row per point (docs/geometry.md)");
+      "mm) and a row per point; or a VTK .vtp file, its points (in metres; z = 0 in 2D) with a point-data array "
+      "\"volume\" (docs/geometry.md)");
   s.string("surface_file").may_be_absent().doc(
       "3D: a body inside a closed triangulated surface, instead of a shape: an STL or VTK .vtp file relative to "
       "the scene, lengths in metres; the points of the grid's lattice (points_per_cell per cell and axis) inside "
@@ -162,7 +166,8 @@ bool refused_with_another_shape(SceneReader& r, const Parameters& b, const std::
   return false;
 }
 
-// A body of points from a file: positions in the grid, volumes above zero.
+// A body of points from a file (CSV, or VTK .vtp through the surface
+// module): positions in the grid, volumes above zero.
 void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
   const std::string at = ptr + "/points_file";
   if (refused_with_another_shape(r, b, ptr, "points_file", "k0 on a body of points", "a points file and a shape",
@@ -171,32 +176,48 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
   std::filesystem::path file = b.string("points_file");
   if (file.is_relative()) file = r.base_dir / file;
   const int D = r.dim;
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   try {
-    std::vector<UnitColumn> columns;
-    for (int a = 0; a < D; ++a) columns.push_back({std::string(1, char('x' + a)), Quantity::length, false, ""});
-    columns.push_back({"volume", Quantity::named, false, D == 2 ? "m^2" : "m^3"});
-    // 64 MiB: about a million points (a flat reader would take more; say so if you need it).
-    const UnitTable t = read_unit_table(file, columns, std::size_t{64} << 20);
-    if (t.rows.empty()) throw Error(file.string() + ": no point: expected a row per point, found none");
-    for (std::size_t k = 0; k < t.rows.size(); ++k) {
-      const std::string where = file.string() + ":" + std::to_string(t.lines[k]);
-      if (!(t.rows[k][D] > 0)) throw Error(where + ": volume not positive: expected a volume > 0, found " + format(t.rows[k][D]));
+    // Rows of D coordinates and a volume, and where each is in the file.
+    std::vector<std::vector<double>> rows;
+    std::vector<std::string> where;
+    if (ext == ".vtp") {
+      const std::vector<double> flat = read_vtp_points(file, D);
+      for (std::size_t k = 0; (k + 1) * static_cast<std::size_t>(D + 1) <= flat.size(); ++k) {
+        rows.emplace_back(flat.begin() + static_cast<std::ptrdiff_t>(k * (D + 1)),
+                          flat.begin() + static_cast<std::ptrdiff_t>((k + 1) * (D + 1)));
+        where.push_back(file.string() + ", point " + std::to_string(k));
+      }
+    } else {
+      std::vector<UnitColumn> columns;
+      for (int a = 0; a < D; ++a) columns.push_back({std::string(1, char('x' + a)), Quantity::length, false, ""});
+      columns.push_back({"volume", Quantity::named, false, D == 2 ? "m^2" : "m^3"});
+      // 64 MiB: about a million points (a flat reader would take more; say so if you need it).
+      UnitTable t = read_unit_table(file, columns, std::size_t{64} << 20);
+      if (t.rows.empty()) throw Error(file.string() + ": no point: expected a row per point, found none");
+      rows = std::move(t.rows);
+      for (const auto line : t.lines) where.push_back(file.string() + ":" + std::to_string(line));
+    }
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      if (!(rows[k][D] > 0)) throw Error(where[k] + ": volume not positive: expected a volume > 0, found " + format(rows[k][D]));
       if (r.grid_ok)
         for (int a = 0; a < D; ++a) {
           const double lo = scene.grid_origin[a], hi = lo + scene.grid_cell_size[a] * scene.grid_cells[a];
-          if (!(t.rows[k][a] >= lo && t.rows[k][a] <= hi))
-            throw Error(where + ": point outside the grid: expected " + std::string(1, char('x' + a)) + " within [" +
-                        format(lo) + ", " + format(hi) + "], found " + format(t.rows[k][a]));
+          if (!(rows[k][a] >= lo && rows[k][a] <= hi))
+            throw Error(where[k] + ": point outside the grid: expected " + std::string(1, char('x' + a)) + " within [" +
+                        format(lo) + ", " + format(hi) + "], found " + format(rows[k][a]));
         }
-      body.points.insert(body.points.end(), t.rows[k].begin(), t.rows[k].end());
+      body.points.insert(body.points.end(), rows[k].begin(), rows[k].end());
       for (int a = 0; a < D; ++a) {
-        body.min[a] = k == 0 ? t.rows[k][a] : std::min(body.min[a], t.rows[k][a]);
-        body.max[a] = k == 0 ? t.rows[k][a] : std::max(body.max[a], t.rows[k][a]);
+        body.min[a] = k == 0 ? rows[k][a] : std::min(body.min[a], rows[k][a]);
+        body.max[a] = k == 0 ? rows[k][a] : std::max(body.max[a], rows[k][a]);
       }
     }
   } catch (const Error& e) {
     body.points.clear();
-    r.error(at, "unreadable points file", "a CSV file as docs/geometry.md describes", e.what(), "core (body)");
+    r.error(at, "unreadable points file", "a CSV or VTK .vtp file as docs/geometry.md describes", e.what(),
+            "core (body)");
   }
 }
 
