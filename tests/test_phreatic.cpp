@@ -11,6 +11,7 @@
 #include <suffuse/plugin_loader.hpp>
 #include <suffuse/simulation.hpp>
 
+#include "mixture/drainage.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -284,6 +285,30 @@ TEST(Phreatic, RestartContinuesBitForBit) {
   }
   EXPECT_EQ(suffuse::test::slurp(b_dir / "phreatic_restart.checkpoint"),
             suffuse::test::slurp(a_dir / "phreatic_restart.checkpoint"));
+}
+
+// The retention curve's derivatives Newton's matrix uses (dS/dpsi, dk_r/dS)
+// against central differences, on both sides of psi = 0 and far into the
+// drained range; the potential inverts the saturation; S is 1/2 one
+// drainage head above the phreatic surface.
+TEST(Phreatic, RetentionCurveDerivativesAndInverse) {
+  const suffuse::detail::Drainage d(suffuse::DrainageSpec{0.02, 1e-3});
+  const double rho = 1000.0, scale = d.pressure_scale(rho);
+  EXPECT_DOUBLE_EQ(d.saturation(-scale, rho), 0.5);
+  for (const double psi : {-50 * scale, -3 * scale, -scale, -0.3 * scale, -0.01 * scale, 0.5 * scale}) {
+    const double e = 1e-6 * scale;
+    const double dS = (d.saturation(psi + e, rho) - d.saturation(psi - e, rho)) / (2 * e);
+    EXPECT_NEAR(d.capacity(psi, rho), dS, 1e-6 / scale) << "dS/dpsi at psi = " << psi;
+    const double S = d.saturation(psi, rho), h = 1e-6;
+    const double dk = S > h ? (d.relative_conductivity(S + h) - d.relative_conductivity(S - h)) / (2 * h) : 0.0;
+    if (S > h && S < 1 - h) {
+      EXPECT_NEAR(d.conductivity_slope(S), dk, 1e-8) << "dk_r/dS at S = " << S;
+    }
+    if (psi < 0) {
+      EXPECT_NEAR(d.potential(0.0, S, rho), psi, 1e-9 * std::abs(psi)) << "psi from S";
+    }
+  }
+  EXPECT_EQ(d.potential(1234.0, 1.0, rho), 1234.0);
 }
 
 }  // namespace

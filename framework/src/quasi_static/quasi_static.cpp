@@ -34,7 +34,7 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
                                                     : std::nullopt);
   }
   phreatic_ = mixture_ && scene.phreatic();
-  if (phreatic_) seepage_closed_.assign(nn, 0), seepage_switched_.assign(nn, 0);
+  if (phreatic_) seepage_closed_.assign(nn, 0);
   std::size_t cells = 1;
   for (int a = 0; a < dim; ++a) cells *= static_cast<std::size_t>(d_.grid.cells()[a]);
   cell_count_.assign(cells, 0.0);
@@ -88,7 +88,7 @@ double QuasiStatic::evaluate(double dt) {
     coupling_.assign(pts.size(), 1.0);
     saturation_.assign(pts.size(), 1.0);
     relative_.assign(pts.size(), 1.0);
-    capacity_.assign(pts.size(), 0.0);  // a saturated point's: n / K_L, set below where it has pores
+    capacity_.assign(pts.size(), 0.0);  // a saturated point's n / K_L, set below where it has pores
     drift_.assign(pts.size() * 3, 0.0);
   }
   for (std::size_t p = 0; p < pts.size(); ++p) {
@@ -111,6 +111,7 @@ double QuasiStatic::evaluate(double dt) {
       add_drained_point_terms(**drains, p, pp, grad_p, div_u, dt, f_int, r_p, water_terms);
       continue;
     }
+    if (phreatic_ && wet) capacity_[p] = n[p] / KL[p];
     const double* sp = sigma + p * 6;
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t q = p * s.npp + a;
@@ -127,7 +128,7 @@ double QuasiStatic::evaluate(double dt) {
       for (int i = 0; i < dim; ++i) flow += gN[i] * grad_p[i];
       const double stored = s.weights[q] * V[p] * (n[p] / KL[p] * pp + div_u), flowing = dt * V[p] * k * flow;
       r_p[I] -= stored + flowing;
-      if (phreatic_) water_terms[I] += std::abs(stored) + std::abs(flowing), capacity_[p] = n[p] / KL[p];
+      if (phreatic_) water_terms[I] += std::abs(stored) + std::abs(flowing);
     }
   }
   sum_over_processes(f_int);
