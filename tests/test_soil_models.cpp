@@ -877,9 +877,14 @@ TEST(ModifiedCamClay, SkeletonOfAConsolidatingColumn) {
     strain += eps[p * 6 + 1] / static_cast<double>(pts.size());
   }
   EXPECT_LT(worst_u, 0.01 * (load - p0)) << "excess pore pressure dissipated";
-  // Every point within 2% of the load step (measured 1.5%: the column still
-  // rings a little), their mean within 0.5%.
-  EXPECT_LT(worst_s, 0.02 * (load - p0)) << "vertical effective stress = the load";
+  // Every point within 4% of the load step (0.36% of the stress), their mean
+  // within 0.5%. The spread is uGIMP's frozen checkerboard: as the column
+  // compresses, the lower point of each cell reaches across the node below
+  // and follows a blend of two cells' strain, which the grid cannot see.
+  // Measured 1.5% with the load at the face stretched by the strain, 3.0%
+  // with the load where uGIMP puts the face (bc/traction), which keeps a
+  // column settling a cell in equilibrium.
+  EXPECT_LT(worst_s, 0.04 * (load - p0)) << "vertical effective stress = the load";
   EXPECT_NEAR(mean_s, load, 0.005 * (load - p0));
   // The oedometer of the element test, to the column's mean vertical strain.
   const ElementRows r = element_test(clay, p0, {{{"type", "oedometer"}, {"strain", -strain}, {"increments", 200}}});

@@ -1,7 +1,7 @@
 // bc/traction: a distributed load (surcharge) on a line (2D) or plane (3D),
 // optionally ramped linearly in time. The load is carried by the material
 // points whose face lies on that surface at the start, and distributed to the
-// nodes with the grid's basis at the face as it moves (f_I += N_I t A_p): it
+// nodes with the grid's basis at the edge of its box as it moves (f_I += N_I t A_p): it
 // follows the body as it settles. A load on nodes fixed in space acts only
 // through the points that still reach them: the top row of a settling column
 // then carries t h / (h - settlement), twice the load at half a cell, until
@@ -95,9 +95,15 @@ class TractionBC final : public suffuse::BoundaryCondition {
   }
 
   // f_I += N_I t A_p, N_I the grid's linear basis integrated over the point's
-  // piece of the loaded surface: at the face's current position along the
-  // normal (centre + half the size stretched by the normal strain), averaged
-  // over the face's extent across it (as uGIMP averages over a point's box).
+  // piece of the loaded surface: along the normal at the edge of the point's
+  // box as uGIMP sees it (centre + half its initial size, at most half a
+  // cell), averaged over the face's extent across it (as uGIMP averages over
+  // a point's box). A node then takes the load in the share it takes the
+  // point's internal force: uniform stress equal to the load is in
+  // equilibrium even at a node only the point's tail reaches. (The face
+  // stretched by the strain reached such a node later than the internal
+  // force did, and its equilibrium pulled the top points' stress to 0.78
+  // and 1.21 of the load: TwoPhase.SaturatedColumnSettlingACellCarriesItsLoad.)
   // A node beyond the grid passes its weight to its neighbour inside.
   bool loads_points() const override { return true; }
   std::vector<std::size_t> loaded_points() const override { return points_; }
@@ -113,7 +119,6 @@ class TractionBC final : public suffuse::BoundaryCondition {
     const auto& core = points.core();
     const double* x = points.data(core.position);
     const double* size = points.data(core.size);
-    const double* strain = points.data(core.strain);
     const auto& o = grid.origin();
     const auto& h = grid.cell_size();
     const auto& nn = grid.nodes_per_axis();
@@ -122,12 +127,11 @@ class TractionBC final : public suffuse::BoundaryCondition {
       int base[3] = {0, 0, 0};
       double w1[3][3] = {};
       for (int a = 0; a < dim_; ++a) {
-        double c = x[p * dim_ + a], l = 0.5 * size[p * dim_ + a];
+        double c = x[p * dim_ + a], l = std::min(0.5 * size[p * dim_ + a], 0.5 * h[a]);
         if (a == normal_) {
-          c += side_ * l * (1 + strain[p * 6 + a]);
+          c += side_ * l;
           l = 0;
         }
-        l = std::min(l, 0.5 * h[a]);
         const double xi = (c - o[a]) / h[a];
         base[a] = static_cast<int>(std::lround(xi)) - 1;
         for (int j = 0; j < 3; ++j) w1[a][j] = hat_average(c - (o[a] + (base[a] + j) * h[a]), h[a], l);
