@@ -466,3 +466,175 @@ TEST(Geometry, OpenOrMisplacedSurfacesAreRefused) {
             ": surface outside the grid: expected x within [0, 1], found [0.6, 1.2]");
   EXPECT_EQ(refused(dir / "open.stl", 2), (dir / "open.stl").string());
 }
+
+namespace {
+
+// The points of a run as a points file: position, volume and the initial
+// fields a file may give, 17 digits (read back to the same doubles).
+void write_points_csv(const fs::path& file, const suffuse::PointSet& pts) {
+  std::ofstream out(file);
+  out.precision(17);
+  out << "x [m], y [m], volume [m^2], stress_xx [Pa], stress_yy [Pa], stress_zz [Pa], stress_yz [Pa], "
+         "stress_xz [Pa], stress_xy [Pa], pore_pressure [Pa], porosity [-], velocity_x [m/s], velocity_y [m/s]\n";
+  const double* x = pts.data(pts.core().position);
+  const double* V = pts.data(pts.core().volume);
+  const double* s = pts.data(pts.core().stress);
+  const double* v = pts.data(pts.core().velocity);
+  const double* p = pts.data(pts.id("pore_pressure"));
+  const double* n = pts.data(pts.id("porosity"));
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    out << x[2 * i] << ", " << x[2 * i + 1] << ", " << V[i];
+    for (int c = 0; c < 6; ++c) out << ", " << s[6 * i + c];
+    out << ", " << p[i] << ", " << n[i] << ", " << v[2 * i] << ", " << v[2 * i + 1] << '\n';
+  }
+}
+
+// Every field of two runs' points, bit for bit.
+void expect_same_points(const suffuse::PointSet& a, const suffuse::PointSet& b, const std::string& when) {
+  ASSERT_EQ(a.size(), b.size()) << when;
+  for (const char* field : {"position", "velocity", "stress", "mass", "volume", "pore_pressure", "porosity",
+                            "liquid_mass", "liquid_velocity", "darcy_flux", "strain"}) {
+    const auto va = a.values(a.id(field)), vb = b.values(b.id(field));
+    EXPECT_TRUE(std::equal(va.begin(), va.end(), vb.begin(), vb.end())) << field << " " << when;
+  }
+}
+
+}  // namespace
+
+// A body of points whose file gives each point its initial stress, pore
+// pressure, porosity and velocity: the seepage column made from its box
+// (geostatic stress from k0, hydrostatic pore pressure from its water
+// table), written as a points file and read back, is the same run bit for
+// bit, at the start and 20 steps later.
+TEST(Geometry, PointsFromAFileStartFromTheirOwnFields) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_geometry_point_fields";
+  fs::create_directories(dir);
+  json box = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/upward_seepage.json");
+  box["outputs"] = json::array();
+  const Seeded from_box(box);
+  write_points_csv(dir / "column.csv", from_box.points());
+  json file = box;
+  auto& body = file["bodies"][0];
+  for (const char* key : {"min", "max", "k0", "water_table", "points_per_cell"}) body.erase(key);
+  body["points_file"] = (dir / "column.csv").string();
+  const Seeded from_file(file);
+  expect_same_points(from_box.points(), from_file.points(), "at the start");
+  for (int step = 0; step < 20; ++step) from_box.sim->step(), from_file.sim->step();
+  expect_same_points(from_box.points(), from_file.points(), "after 20 steps");
+}
+
+// Each point takes its own row's values, also where an earlier body took
+// some of the file's points; the body's keys fill what the file leaves out;
+// the solid mass follows each point's porosity and the fines its fines
+// content. Bad values and columns are refused with the file's line.
+TEST(Geometry, PointsFromAFileCarryTheirRowsValues) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_geometry_point_rows";
+  fs::create_directories(dir);
+  std::ofstream(dir / "points.csv")
+      << "x [m], y [m], volume [m^2], stress_yy [Pa], pore_pressure [Pa], porosity [-], fines_content [-], "
+         "velocity_y [m/s]\n"
+         "0.1, 0.1, 0.0004, -1000, 500, 0.3, 0.1, -0.01\n"
+         "0.7, 0.7, 0.0004, -2000, 600, 0.35, 0.15, -0.02\n"
+         "0.3, 0.125, 0.0009, -3000, 700, 0.4, 0.2, -0.03\n"
+         "0.8, 0.9, 0.0004, -4000, 800, 0.45, 0.25, -0.04\n";
+  json j = scene_with(2, 10, json::array());
+  j["liquids"] = {{"water", {{"type", "phase/pore_liquid"}, {"density", 1000.0}, {"bulk_modulus", 1e8}}}};
+  for (const char* m : {"soil", "clay"})
+    j["materials"][m]["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", 1e-4}};
+  const json box = {{"material", "clay"}, {"min", {0.5, 0.5}}, {"max", {1.0, 1.0}}, {"liquid", "water"},
+                    {"porosity", 0.3}};
+  j["bodies"] = {box, {{"material", "soil"}, {"points_file", (dir / "points.csv").string()}, {"liquid", "water"},
+                       {"porosity", 0.5}, {"stress", {-1.0, -2.0, -3.0, 0.0, 0.0, 0.0}}, {"fines_content", 0.05},
+                       {"velocity", {0.5, 0.0}}}};
+  const Seeded seeded(j);
+  const suffuse::PointSet& pts = seeded.points();
+  ASSERT_EQ(pts.size(), 5u * 5u * 4u + 2u) << "the box's points, then rows 1 and 3 of the file";
+  const std::size_t first = pts.size() - 2;
+  const double rows[2][5] = {{-1000, 500, 0.3, 0.1, -0.01}, {-3000, 700, 0.4, 0.2, -0.03}};
+  for (std::size_t k = 0; k < 2; ++k) {
+    const std::size_t p = first + k;
+    const double* s = pts.data(pts.core().stress) + 6 * p;
+    EXPECT_EQ(s[0], -1.0) << "stress_xx from the body's key";
+    EXPECT_EQ(s[1], rows[k][0]);
+    EXPECT_EQ(s[2], -3.0);
+    EXPECT_EQ(pts.data(pts.id("pore_pressure"))[p], rows[k][1]);
+    EXPECT_EQ(pts.data(pts.id("porosity"))[p], rows[k][2]);
+    EXPECT_EQ(pts.data(pts.id("fines_content"))[p], rows[k][3]);
+    EXPECT_EQ(pts.data(pts.core().velocity)[2 * p], 0.5) << "velocity_x from the body's key";
+    EXPECT_EQ(pts.data(pts.core().velocity)[2 * p + 1], rows[k][4]);
+    const double V = pts.data(pts.core().volume)[p], m = pts.data(pts.core().mass)[p];
+    EXPECT_DOUBLE_EQ(m, 2000.0 * (1 - rows[k][2]) * V) << "grains fill 1 - n of the volume";
+    EXPECT_DOUBLE_EQ(pts.data(pts.id("skeleton_fines"))[p], rows[k][3] * m);
+    EXPECT_DOUBLE_EQ(pts.data(pts.id("liquid_mass"))[p], rows[k][2] * V * 1000.0);
+  }
+
+  auto refused = [&](const std::string& name, const std::string& text, const json& extra, const std::string& says) {
+    std::ofstream(dir / name) << text;
+    json bad = j;
+    bad["bodies"][1]["points_file"] = (dir / name).string();
+    for (const auto& [key, value] : extra.items()) {
+      if (value.is_null())
+        bad["bodies"][1].erase(key);
+      else
+        bad["bodies"][1][key] = value;
+    }
+    suffuse::Registry registry;
+    try {
+      suffuse::test::scene_from(bad, registry);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const suffuse::SceneError& e) {
+      ASSERT_EQ(e.diagnostics().size(), 1u) << name << ": " << e.what();
+      EXPECT_EQ(e.diagnostics()[0].pointer, "/bodies/1/points_file");
+      EXPECT_NE(e.diagnostics()[0].found.find(says), std::string::npos) << e.diagnostics()[0].found;
+    }
+  };
+  const std::string head = "x [m], y [m], volume [m^2], ";
+  refused("unknown.csv", head + "suction [Pa]\n0.1, 0.1, 0.0004, 5\n", json::object(),
+          "unknown column \"suction\": expected after the volume any of stress_xx");
+  refused("twice.csv", head + "porosity [-], porosity [-]\n0.1, 0.1, 0.0004, 0.3, 0.3\n", json::object(),
+          "column \"porosity\" twice");
+  refused("porosity.csv", head + "porosity [-]\n0.1, 0.1, 0.0004, 0.3\n0.2, 0.2, 0.0004, 1.2\n", json::object(),
+          "porosity.csv:3: porosity out of range: expected a porosity in (0, 1), found 1.2");
+  refused("unit.csv", head + "pore_pressure [kPa]\n0.1, 0.1, 0.0004, 5\n", json::object(),
+          "unit.csv:1: unit missing or unknown: expected pore_pressure in Pa");
+  refused("fines.csv", head + "fines_content [-]\n0.1, 0.1, 0.0004, 0.01\n", {{"ultimate_fines_content", 0.02}},
+          "fines.csv:2: fines_content out of range: expected fines_content in [ultimate_fines_content = 0.02, 1)");
+  refused("dry.csv", head + "pore_pressure [Pa]\n0.1, 0.1, 0.0004, 5\n",
+          {{"liquid", nullptr}, {"porosity", nullptr}, {"fines_content", nullptr}},
+          "a dry body's points with pore_pressure");
+  refused("table.csv", head + "pore_pressure [Pa]\n0.1, 0.1, 0.0004, 5\n", {{"water_table", 1.0}},
+          "pore_pressure both per point and by water_table");
+}
+
+// A run's own points (writer/vtk_particles) start a body with their fields:
+// the seepage column's last frame, read back, holds the stress, pore
+// pressure, porosity and velocity the run ended with.
+TEST(Geometry, PointsFromARunsVtpFileStartFromItsFields) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_geometry_point_vtp_fields";
+  fs::remove_all(dir);
+  json scene = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/upward_seepage.json");
+  scene["time"]["end"] = 0.01;
+  scene["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", 0.01}}};
+  suffuse::Registry registry;
+  suffuse::Simulation run(suffuse::test::scene_from(scene, registry), registry, 1);
+  suffuse::RunOptions options;
+  options.output_dir = dir;
+  run.run(options);
+  fs::path last;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().extension() == ".vtp" && (last.empty() || entry.path().filename() > last.filename()))
+      last = entry.path();
+  ASSERT_FALSE(last.empty());
+  json file = scene;
+  auto& body = file["bodies"][0];
+  for (const char* key : {"min", "max", "k0", "water_table", "points_per_cell"}) body.erase(key);
+  body["points_file"] = last.string();
+  file["outputs"] = json::array();
+  const Seeded seeded(file);
+  const suffuse::PointSet &a = run.points(), &b = seeded.points();
+  ASSERT_EQ(a.size(), b.size());
+  for (const char* field : {"position", "volume", "stress", "pore_pressure", "porosity", "velocity"}) {
+    const auto va = a.values(a.id(field)), vb = b.values(b.id(field));
+    EXPECT_LT(suffuse::test::max_relative_difference(va, vb), 1e-15) << field;
+  }
+}

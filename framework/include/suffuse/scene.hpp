@@ -61,6 +61,13 @@ struct BodySpec {
   // A body of points read from a file (docs/geometry.md): each point's
   // position and volume, row after row (dim + 1 values); it has no shape.
   std::vector<double> points;
+  // Such a body's initial fields per point, where its file gives them: one
+  // entry per row of `points`, in order (stress: 6 per point, Voigt,
+  // effective, tension positive; velocity: dim per point). An empty field
+  // takes the body's key at every point.
+  struct PointValues {
+    std::vector<double> stress, pore_pressure, porosity, velocity, fines_content;
+  } point_values;
   int points_per_cell = 2;  // per axis
   std::array<double, 3> velocity{};
   std::optional<std::size_t> liquid;  // index into Scene::liquids: a saturated body

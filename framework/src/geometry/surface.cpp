@@ -29,10 +29,10 @@ SurfaceSeeds seed_surface(const std::filesystem::path& file, const SurfaceLattic
   return seeds;
 }
 
-std::vector<double> read_vtp_points(const std::filesystem::path& file, int dim) {
-  std::vector<double> rows;
-  surface_module().read_points(file, dim, rows);
-  return rows;
+VtpPoints read_vtp_points(const std::filesystem::path& file, int dim) {
+  VtpPoints points;
+  surface_module().read_points(file, dim, points);
+  return points;
 }
 
 }  // namespace suffuse::detail

@@ -7,6 +7,8 @@
 #include <array>
 #include <cstddef>
 #include <filesystem>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace suffuse::detail {
@@ -34,12 +36,20 @@ SurfaceSeeds seed_surface(const std::filesystem::path& file, const SurfaceLattic
 
 // A body's points from a VTK XML polygonal data file (.vtp): a row (the dim
 // coordinates, the volume) per point, from its points and its point-data
-// array "volume". Throws suffuse::Error naming the file: unreadable, no
-// point, no such array, or (2D) a point off the plane z = 0.
-std::vector<double> read_vtp_points(const std::filesystem::path& file, int dim);
+// array "volume"; and the initial fields the file holds, of the arrays
+// "stress" (6 components; returned in suffuse's order xx yy zz yz xz xy),
+// "pore_pressure", "porosity", "velocity" (3 components; returned with dim)
+// and "fines_content", as a suffuse run writes them. Throws suffuse::Error
+// naming the file: unreadable, no point, no volumes, one of those arrays
+// with other components, or (2D) a point off the plane z = 0.
+struct VtpPoints {
+  std::vector<double> rows;
+  std::vector<std::pair<std::string, std::vector<double>>> fields;  // name, values per point
+};
+VtpPoints read_vtp_points(const std::filesystem::path& file, int dim);
 
 // The module's entries (surface_module.cpp).
 using SeedSurfaceEntry = void(const std::filesystem::path& file, const SurfaceLattice& lattice, SurfaceSeeds& seeds);
-using ReadPointsEntry = void(const std::filesystem::path& file, int dim, std::vector<double>& rows);
+using ReadPointsEntry = void(const std::filesystem::path& file, int dim, VtpPoints& points);
 
 }  // namespace suffuse::detail

@@ -158,8 +158,9 @@ extern "C" void suffuse_surface_seed(const fs::path& file, const suffuse::detail
 }
 
 // A body's points from VTK XML polygonal data: the file's points (z zero
-// in 2D) and its point-data array "volume", one component.
-extern "C" void suffuse_points_read(const fs::path& file, int dim, std::vector<double>& rows) {
+// in 2D), its point-data array "volume", one component, and the arrays of
+// initial fields it holds (surface.hpp).
+extern "C" void suffuse_points_read(const fs::path& file, int dim, suffuse::detail::VtpPoints& points) {
   if (!fs::is_regular_file(file)) throw Error(file.string() + ": no such file");
   vtkNew<vtkXMLPolyDataReader> reader;
   reader->SetFileName(file.c_str());
@@ -172,6 +173,7 @@ extern "C" void suffuse_points_read(const fs::path& file, int dim, std::vector<d
     throw Error(file.string() + ": no volumes: expected a point-data array \"volume\" of one component (m^" +
                 std::to_string(dim) + ")" + (volume ? ", found one of " + std::to_string(volume->GetNumberOfComponents())
                                                     : ", found none"));
+  std::vector<double>& rows = points.rows;
   rows.clear();
   rows.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(dim + 1));
   for (vtkIdType k = 0; k < n; ++k) {
@@ -181,6 +183,34 @@ extern "C" void suffuse_points_read(const fs::path& file, int dim, std::vector<d
                   text(x[2]));
     for (int a = 0; a < dim; ++a) rows.push_back(x[a]);
     rows.push_back(volume->GetTuple1(k));
+  }
+  // The initial fields, as vtk_particles writes them: a symmetric tensor in
+  // VTK's order XX YY ZZ XY YZ XZ, a vector with three components.
+  struct Wanted {
+    const char* name;
+    int components;
+  };
+  points.fields.clear();
+  for (const Wanted w : {Wanted{"stress", 6}, Wanted{"pore_pressure", 1}, Wanted{"porosity", 1},
+                         Wanted{"velocity", 3}, Wanted{"fines_content", 1}}) {
+    vtkDataArray* array = data->GetPointData()->GetArray(w.name);
+    if (!array) continue;
+    if (array->GetNumberOfComponents() != w.components)
+      throw Error(file.string() + ": array \"" + w.name + "\" with " + std::to_string(array->GetNumberOfComponents()) +
+                  " components: expected " + std::to_string(w.components) + ", as suffuse writes it");
+    std::vector<double> values;
+    const int kept = w.components == 3 ? dim : w.components;
+    values.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(kept));
+    double t[6];
+    for (vtkIdType k = 0; k < n; ++k) {
+      array->GetTuple(k, t);
+      if (w.components == 6) {
+        for (const int c : {0, 1, 2, 4, 5, 3}) values.push_back(t[c]);  // xx yy zz yz xz xy
+      } else {
+        for (int c = 0; c < kept; ++c) values.push_back(t[c]);
+      }
+    }
+    points.fields.emplace_back(w.name, std::move(values));
   }
 }
 

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mpm/plugin_batch.hpp"
 #include "mpm/solid_kernels.hpp"
+#include "mpm/initial_values.hpp"
 #include "suffuse/error.hpp"
 #include "mixture/drainage.hpp"
 #include "mixture/two_phase_kernels.hpp"
@@ -61,7 +63,7 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
   node_darcy_.assign(nn * dim, 0.0);
 }
 
-void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b) {
+void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b, const InitialValues& initial) {
   if (!body.liquid) return;
   const int dim = d_.dim();
   PointSet& pts = d_.points;
@@ -73,9 +75,9 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b) {
   const double g = -gravity_[dim - 1];  // along the vertical (last) axis, downward
   const std::optional<DrainageSpec>& drains = drainage_[body.material];
   for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
-    const double pore = body.porosity * V[p];
-    pts.data(f_.porosity)[p] = body.porosity;
-    double pressure = body.pore_pressure;
+    const double n = initial.porosity(p), pore = n * V[p];
+    pts.data(f_.porosity)[p] = n;
+    double pressure = initial.pore_pressure(p);
     if (body.water_table) pressure += rho_w * g * std::max(0.0, *body.water_table - x[p * dim + dim - 1]);
     if (f_.saturation) {
       // Pores that drain hold, above the water table, what the retention
@@ -87,7 +89,7 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b) {
     }
     pts.data(f_.pressure)[p] = pressure;
     pts.data(f_.bulk_modulus)[p] = liquid.bulk_modulus();
-    for (int a = 0; a < dim; ++a) pts.data(f_.liquid_velocity)[p * dim + a] = body.velocity[a];
+    for (int a = 0; a < dim; ++a) pts.data(f_.liquid_velocity)[p * dim + a] = initial.velocity(p, a);
     pts.data(f_.grain_density)[p] = rho_s;
     pts.data(f_.water_density)[p] = rho_w;
     pts.data(f_.liquid_density)[p] = rho_l;
@@ -100,13 +102,21 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b) {
 double SaturatedMixture::stable_time_step(const BodySpec& body, const Phase& phase, double h) const {
   // Mieremet et al. 2016: the undrained wave h / c_u, c_u = sqrt((M + K_L/n)
   // / rho_sat), and the explicit-drag limit 2 (1-n) rho_s K / (n g rho_sat).
+  // A body of points whose file gives each its porosity: the smallest step
+  // over them.
   const Liquid& liquid = *liquids_[*body.liquid];
-  const double n = body.porosity, rho_s = phase.density();
-  const double rho_sat = (1 - n) * rho_s + n * liquid.density();
-  double dt = h / std::sqrt((phase.p_wave_modulus() + liquid.bulk_modulus() / n) / rho_sat);
-  double K = 0;
-  permeability_[body.material]->conductivity(std::span(&n, 1), std::span(&K, 1));
-  return std::min(dt, 2 * (1 - n) * rho_s * K / (n * reference_gravity * rho_sat));
+  const double rho_s = phase.density();
+  const std::vector<double>& given = body.point_values.porosity;
+  const std::span<const double> porosities = given.empty() ? std::span(&body.porosity, 1) : std::span(given);
+  std::vector<double> K(porosities.size());
+  permeability_[body.material]->conductivity(porosities, K);
+  double dt = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < porosities.size(); ++k) {
+    const double n = porosities[k], rho_sat = (1 - n) * rho_s + n * liquid.density();
+    dt = std::min({dt, h / std::sqrt((phase.p_wave_modulus() + liquid.bulk_modulus() / n) / rho_sat),
+                   2 * (1 - n) * rho_s * K[k] / (n * reference_gravity * rho_sat)});
+  }
+  return dt;
 }
 
 void SaturatedMixture::points_to_grid() {

@@ -16,6 +16,8 @@
 
 namespace suffuse::detail {
 
+class InitialValues;
+
 // Ids of the mixture's point fields.
 struct MixtureFields {
   FieldId porosity, porosity_increment, pressure, pressure_rate, liquid_velocity, conductivity, darcy_flux,
@@ -36,7 +38,7 @@ class SaturatedMixture final : public MomentumBalance {
   // Saturated state of a body's points: porosity, pore pressure (uniform,
   // plus hydrostatic below a water table), liquid and its density (with the
   // suspended fines of `concentration`), conductivity.
-  void initialise(const BodySpec& body, const BodyPoints& points);
+  void initialise(const BodySpec& body, const BodyPoints& points, const InitialValues& initial);
   // The time-step limits of a saturated body (undrained wave, explicit drag).
   double stable_time_step(const BodySpec& body, const Phase& phase, double h) const;
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "geometry/body_shape.hpp"
+#include "mpm/initial_values.hpp"
 #include "mpm/solid_kernels.hpp"
 #include "suffuse/error.hpp"
 
@@ -113,7 +114,8 @@ void Domain::gather_nodal(const Interpolation& s, std::vector<double>& values, i
     }
 }
 
-BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::span<const BodySpec> earlier) {
+BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::span<const BodySpec> earlier,
+                               std::vector<std::size_t>& file_rows) {
   const int D = dim();
   // The lattice: a box's own (count points per axis filling it evenly); a
   // polygon's the grid's (points_per_cell per cell), from the cell that
@@ -150,7 +152,7 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
         bool taken = false;
         for (const BodySpec& other : earlier)
           taken = taken || (near_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
-        if (!taken) use(xp, body.points[r + D]);
+        if (!taken) use(xp, body.points[r + D], r / (D + 1));
       }
       return;
     }
@@ -166,11 +168,11 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
           bool taken = false;
           for (const BodySpec& other : earlier)
             taken = taken || (near_bounds(other, xp.data(), D) && shape_contains(other, xp.data(), D));
-          if (!taken) use(xp, volume);
+          if (!taken) use(xp, volume, std::size_t{0});
         }
   };
   std::size_t total = 0;
-  for_each_point([&](const std::array<double, 3>&, double) { ++total; });
+  for_each_point([&](const std::array<double, 3>&, double, std::size_t) { ++total; });
   const std::size_t first = points.append(total);
   const auto& f = points.core();
   double* x = points.data(f.position);
@@ -180,22 +182,29 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
   double* id = points.data(f.material_id);
   double* size = points.data(f.size);
   double* stress = points.data(f.stress);
+  file_rows.clear();
+  if (!body.points.empty()) file_rows.reserve(total);
+  for_each_point([&](const std::array<double, 3>&, double, std::size_t row) {
+    if (!body.points.empty()) file_rows.push_back(row);
+  });
+  const BodyPoints made{body.name, body.material, {first, first + total}, body.liquid.has_value()};
+  const InitialValues initial(body, made, file_rows, D);
   std::size_t p = first;
-  for_each_point([&](const std::array<double, 3>& xp, double point_volume) {
+  for_each_point([&](const std::array<double, 3>& xp, double point_volume, std::size_t) {
     // A point from a file: a cube (a square in 2D) of its volume.
     const double side = body.points.empty() ? 0.0 : std::pow(point_volume, 1.0 / D);
     for (int a = 0; a < D; ++a) {
       x[p * D + a] = xp[a];
-      v[p * D + a] = body.velocity[a];
+      v[p * D + a] = initial.velocity(p, a);
       size[p * D + a] = body.points.empty() ? spacing[a] : side;
     }
-    for (int c = 0; c < 6; ++c) stress[p * 6 + c] = body.stress[c];
+    for (int c = 0; c < 6; ++c) stress[p * 6 + c] = initial.stress(p, c);
     V[p] = point_volume;
-    m[p] = point_volume * solid_density * (body.liquid ? 1 - body.porosity : 1.0);
+    m[p] = point_volume * solid_density * (body.liquid ? 1 - initial.porosity(p) : 1.0);
     id[p] = static_cast<double>(body.material);
     ++p;
   });
-  bodies.push_back({body.name, body.material, {first, first + total}, body.liquid.has_value()});
+  bodies.push_back(made);
   return bodies.back();
 }
 

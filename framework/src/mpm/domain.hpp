@@ -61,7 +61,10 @@ class Domain {
   // Fills a body's shape with points (position, size, velocity, volume,
   // solid mass, initial stress, material id), but where the earlier bodies
   // are; returns their range.
-  BodyPoints create_body(const BodySpec& body, double solid_density, std::span<const BodySpec> earlier);
+  // `file_rows`: set to the file's row of each point of a body of points
+  // (InitialValues), cleared for a body of a shape.
+  BodyPoints create_body(const BodySpec& body, double solid_density, std::span<const BodySpec> earlier,
+                         std::vector<std::size_t>& file_rows);
 
   // A run on many processes: keeps this process's share of the points,
   // whole scatter chunks of the serial run's numbering (docs/parallel.md),

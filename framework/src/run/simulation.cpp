@@ -8,6 +8,7 @@
 #include "mpm/domain.hpp"
 #include "mpm/dry_momentum.hpp"
 #include "mpm/geostatic_stress.hpp"
+#include "mpm/initial_values.hpp"
 #include "io/grid_projection.hpp"
 #include "run/memory_estimate.hpp"
 #include "mpm/point_order.hpp"
@@ -190,14 +191,16 @@ void Simulation::create_bodies() {
   for (std::size_t i = 0; i < scene_.bodies.size(); ++i) {
     const BodySpec& body = scene_.bodies[i];
     const Phase& phase = materials_->phase(body.material);
+    std::vector<std::size_t> file_rows;
     const detail::BodyPoints b =
-        domain_->create_body(body, phase.density(), std::span(scene_.bodies).first(i));
+        domain_->create_body(body, phase.density(), std::span(scene_.bodies).first(i), file_rows);
+    const detail::InitialValues initial(body, b, file_rows, scene_.dim);
     if (b.range.begin == b.range.end)
       throw Error("/bodies/" + std::to_string(i) + " ('" + body.name +
                   "'): no material point: the body lies within earlier bodies (a later body fills only what earlier "
                   "ones left) or is thinner than a point's spacing, grid cell / points_per_cell (docs/geometry.md)");
-    if (mixture_) mixture_->initialise(body, b);
-    if (species_) species_->initialise(body, b);
+    if (mixture_) mixture_->initialise(body, b, initial);
+    if (species_) species_->initialise(body, b, initial);
     const double rho_w = body.liquid ? mixture_->liquid(*body.liquid).density() : 0.0;
     detail::add_geostatic_stress(scene_, weights, i, rho_w, g, domain_->points, b.range);
     phase.initialise(domain_->points, b.range);

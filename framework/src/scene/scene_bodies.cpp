@@ -2,6 +2,9 @@
 // their initial state.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <fstream>
+#include <optional>
 
 #include "geometry/polygon.hpp"
 #include "common/unit_table.hpp"
@@ -33,8 +36,11 @@ ParameterSchema body_schema() {
   s.string("points_file").may_be_absent().doc(
       "A body of points generated elsewhere, instead of a shape: a CSV file relative to the scene, a header with "
       "units (\"x [m], y [m], volume [m^2]\" in 2D, \"x [m], y [m], z [m], volume [m^3]\" in 3D; lengths in m, cm or "
-      "mm) and a row per point; or a VTK .vtp file, its points (in metres; z = 0 in 2D) with a point-data array "
-      "\"volume\" (docs/geometry.md)");
+      "mm) and a row per point, optionally followed by columns of initial fields per point (stress_xx ... "
+      "stress_xy [Pa], pore_pressure [Pa], porosity [-], velocity_x ... [m/s], fines_content [-]) that replace "
+      "the body's keys there; or a VTK .vtp file, its points (in metres; z = 0 in 2D) with a point-data array "
+      "\"volume\" and, if present, the arrays stress, pore_pressure, porosity, velocity and fines_content as a "
+      "run writes them (docs/geometry.md)");
   s.string("surface_file").may_be_absent().doc(
       "3D: a body inside a closed triangulated surface, instead of a shape: an STL or VTK .vtp file relative to "
       "the scene, lengths in metres; the points of the grid's lattice (points_per_cell per cell and axis) inside "
@@ -166,8 +172,96 @@ bool refused_with_another_shape(SceneReader& r, const Parameters& b, const std::
   return false;
 }
 
+// The initial fields a points file may give each point (docs/geometry.md):
+// a CSV column per component, named as suffuse's outputs name them.
+struct PointColumn {
+  const char* field;
+  int component;  // of the field's values per point
+  const char* unit;
+};
+
+std::optional<PointColumn> point_column(const std::string& name, int dim) {
+  static const char* voigt[6] = {"xx", "yy", "zz", "yz", "xz", "xy"};
+  for (int c = 0; c < 6; ++c)
+    if (name == std::string("stress_") + voigt[c]) return PointColumn{"stress", c, "Pa"};
+  for (int a = 0; a < dim; ++a)
+    if (name == std::string("velocity_") + char('x' + a)) return PointColumn{"velocity", a, "m/s"};
+  for (const char* f : {"pore_pressure", "porosity", "fines_content"})
+    if (name == f) return PointColumn{f, 0, name == "pore_pressure" ? "Pa" : "-"};
+  return std::nullopt;
+}
+
+std::string point_column_names(int dim) {
+  return std::string("stress_xx, stress_yy, stress_zz, stress_yz, stress_xz, stress_xy [Pa], pore_pressure [Pa], "
+                     "porosity [-], ") +
+         (dim == 2 ? "velocity_x, velocity_y" : "velocity_x, velocity_y, velocity_z") + " [m/s], fines_content [-]";
+}
+
+// A CSV file's header cells, names without their units.
+std::vector<std::string> header_names(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::string t = trim(line);
+    if (t.empty() || t.front() == '#') continue;
+    std::vector<std::string> names;
+    for (const std::string& cell : split_cells(t)) names.push_back(trim(cell.substr(0, cell.find_first_of("[("))));
+    return names;
+  }
+  return {};
+}
+
+// The point values of a field, `components` per point, from the body's key
+// where the file gives only some of its components.
+std::vector<double>& field_values(BodySpec& body, const std::string& field) {
+  auto& v = body.point_values;
+  return field == "stress" ? v.stress : field == "velocity" ? v.velocity : field == "porosity" ? v.porosity
+         : field == "pore_pressure" ? v.pore_pressure : v.fines_content;
+}
+
+void fill_from_keys(BodySpec& body, const std::string& field, std::size_t count, int dim) {
+  std::vector<double>& v = field_values(body, field);
+  if (field == "stress") {
+    for (std::size_t p = 0; p < count; ++p) v.insert(v.end(), body.stress.begin(), body.stress.end());
+  } else if (field == "velocity") {
+    for (std::size_t p = 0; p < count; ++p) v.insert(v.end(), body.velocity.begin(), body.velocity.begin() + dim);
+  } else {
+    v.assign(count, 0.0);
+  }
+}
+
+// Each point's initial values in range, and the body's keys they replace.
+void check_point_values(const BodySpec& body, const Parameters& b, const std::vector<std::string>& where) {
+  const auto& v = body.point_values;
+  const bool wet = body.liquid.has_value();
+  for (const auto& [name, values] : {std::pair{"pore_pressure", &v.pore_pressure}, std::pair{"porosity", &v.porosity},
+                                     std::pair{"fines_content", &v.fines_content}})
+    if (!values->empty() && !wet)
+      throw Error(std::string("a dry body's points with ") + name + ": expected " + name +
+                  " only for a body with \"liquid\", found the column \"" + name + "\"");
+  if (!v.pore_pressure.empty() && b.has("water_table"))
+    throw Error("pore_pressure both per point and by water_table: expected one of them, found both");
+  for (std::size_t k = 0; k < where.size(); ++k) {
+    if (!v.porosity.empty() && !(v.porosity[k] > 0 && v.porosity[k] < 1))
+      throw Error(where[k] + ": porosity out of range: expected a porosity in (0, 1), found " + format(v.porosity[k]));
+    if (!v.fines_content.empty() &&
+        !(v.fines_content[k] >= body.ultimate_fines_content && v.fines_content[k] < 1))
+      throw Error(where[k] + ": fines_content out of range: expected fines_content in [ultimate_fines_content = " +
+                  format(body.ultimate_fines_content) + ", 1), found " + format(v.fines_content[k]));
+    for (const std::vector<double>* values : {&v.stress, &v.pore_pressure, &v.velocity})
+      if (!values->empty()) {
+        const std::size_t per = values->size() / where.size();
+        for (std::size_t c = 0; c < per; ++c)
+          if (!std::isfinite((*values)[k * per + c]))
+            throw Error(where[k] + ": not a number: expected finite initial values, found " +
+                        format((*values)[k * per + c]));
+      }
+  }
+}
+
 // A body of points from a file (CSV, or VTK .vtp through the surface
-// module): positions in the grid, volumes above zero.
+// module): positions in the grid, volumes above zero, and the initial
+// fields the file gives each point.
 void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const std::string& ptr, BodySpec& body) {
   const std::string at = ptr + "/points_file";
   if (refused_with_another_shape(r, b, ptr, "points_file", "k0 on a body of points", "a points file and a shape",
@@ -183,22 +277,52 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
     std::vector<std::vector<double>> rows;
     std::vector<std::string> where;
     if (ext == ".vtp") {
-      const std::vector<double> flat = read_vtp_points(file, D);
+      VtpPoints read = read_vtp_points(file, D);
+      const std::vector<double>& flat = read.rows;
       for (std::size_t k = 0; (k + 1) * static_cast<std::size_t>(D + 1) <= flat.size(); ++k) {
         rows.emplace_back(flat.begin() + static_cast<std::ptrdiff_t>(k * (D + 1)),
                           flat.begin() + static_cast<std::ptrdiff_t>((k + 1) * (D + 1)));
         where.push_back(file.string() + ", point " + std::to_string(k));
       }
+      // A dry body reads only stress and velocity: a saturated run's files
+      // hold its pores' fields too.
+      for (auto& [field, values] : read.fields)
+        if (body.liquid || field == "stress" || field == "velocity") field_values(body, field) = std::move(values);
     } else {
       std::vector<UnitColumn> columns;
       for (int a = 0; a < D; ++a) columns.push_back({std::string(1, char('x' + a)), Quantity::length, false, ""});
       columns.push_back({"volume", Quantity::named, false, D == 2 ? "m^2" : "m^3"});
+      // Columns after the volume: initial fields, by name.
+      std::vector<PointColumn> given;
+      const std::vector<std::string> names = header_names(file);
+      for (std::size_t c = columns.size(); c < names.size(); ++c) {
+        const std::optional<PointColumn> column = point_column(names[c], D);
+        if (!column)
+          throw Error(file.string() + ": unknown column \"" + names[c] + "\": expected after the volume any of " +
+                      point_column_names(D));
+        for (const PointColumn& g : given)
+          if (std::string(g.field) == column->field && g.component == column->component)
+            throw Error(file.string() + ": column \"" + names[c] + "\" twice: expected each column once");
+        given.push_back(*column);
+        columns.push_back({names[c], Quantity::named, false, column->unit});
+      }
       // 64 MiB: about a million points (a flat reader would take more; say so if you need it).
       UnitTable t = read_unit_table(file, columns, std::size_t{64} << 20);
       if (t.rows.empty()) throw Error(file.string() + ": no point: expected a row per point, found none");
+      for (const PointColumn& g : given)
+        if (field_values(body, g.field).empty()) fill_from_keys(body, g.field, t.rows.size(), D);
+      for (std::size_t k = 0; k < t.rows.size(); ++k)
+        for (std::size_t c = 0; c < given.size(); ++c) {
+          const std::string field = given[c].field;
+          const std::size_t per = field == "stress" ? 6 : field == "velocity" ? static_cast<std::size_t>(D) : 1;
+          field_values(body, field)[k * per + static_cast<std::size_t>(given[c].component)] =
+              t.rows[k][static_cast<std::size_t>(D + 1) + c];
+        }
+      for (auto& row : t.rows) row.resize(static_cast<std::size_t>(D + 1));
       rows = std::move(t.rows);
       for (const auto line : t.lines) where.push_back(file.string() + ":" + std::to_string(line));
     }
+    check_point_values(body, b, where);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       if (!(rows[k][D] > 0)) throw Error(where[k] + ": volume not positive: expected a volume > 0, found " + format(rows[k][D]));
       if (r.grid_ok)
@@ -216,6 +340,7 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
     }
   } catch (const Error& e) {
     body.points.clear();
+    body.point_values = {};
     r.error(at, "unreadable points file", "a CSV or VTK .vtp file as docs/geometry.md describes", e.what(),
             "core (body)");
   }

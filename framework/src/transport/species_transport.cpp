@@ -9,6 +9,7 @@
 #include "parallel/distributed_system.hpp"
 #include "mpm/plugin_batch.hpp"
 #include "transport/species_kernels.hpp"
+#include "mpm/initial_values.hpp"
 #include "suffuse/error.hpp"
 #include "suffuse/grid_face.hpp"
 
@@ -16,7 +17,11 @@ namespace suffuse::detail {
 
 bool SpeciesTransport::tracks_fines(const Scene& scene, const std::vector<LiquidOpening>& openings) {
   bool fines = scene.erodible();
-  for (const BodySpec& b : scene.bodies) fines = fines || b.fines_content > 0 || b.concentration > 0;
+  for (const BodySpec& b : scene.bodies) {
+    const auto& given = b.point_values.fines_content;
+    fines = fines || b.fines_content > 0 || b.concentration > 0 ||
+            std::any_of(given.begin(), given.end(), [](double f) { return f > 0; });
+  }
   for (const LiquidOpening& o : openings) fines = fines || o.concentration > 0;
   return fines;
 }
@@ -79,7 +84,7 @@ SpeciesTransport::SpeciesTransport(const Scene& scene, const Registry& registry,
   setup_openings(scene, mixture, bcs);
 }
 
-void SpeciesTransport::initialise(const BodySpec& body, const BodyPoints& b) {
+void SpeciesTransport::initialise(const BodySpec& body, const BodyPoints& b, const InitialValues& initial) {
   if (!body.liquid || !fines_) return;
   PointSet& pts = d_.points;
   const FinesFields& f = *fines_;
@@ -91,9 +96,10 @@ void SpeciesTransport::initialise(const BodySpec& body, const BodyPoints& b) {
   for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
     // A body's initial liquid carries fines (all of it) or none.
     pts.data(f.carrying_liquid)[p] = body.concentration > 0 ? ml[p] : 0.0;
-    pts.data(f.skeleton_fines)[p] = body.fines_content * ms[p];
+    const double fc = initial.fines_content(p);
+    pts.data(f.skeleton_fines)[p] = fc * ms[p];
     pts.data(f.suspended_fines)[p] = body.concentration * rho_s[p] * n[p] * V[p];
-    pts.data(f.fines_content)[p] = body.fines_content;
+    pts.data(f.fines_content)[p] = fc;
     pts.data(f.ultimate_fines_content)[p] = body.ultimate_fines_content;
     pts.data(f.concentration)[p] = body.concentration;
   }

@@ -19,6 +19,8 @@
 
 namespace suffuse::detail {
 
+class InitialValues;
+
 class DistributedSystem;
 
 // How the transport steps in time. Explicit steps use one forward-Euler
@@ -56,7 +58,7 @@ class SpeciesTransport {
   ~SpeciesTransport();
 
   // Fines of a body's points (after the mixture's initialise).
-  void initialise(const BodySpec& body, const BodyPoints& points);
+  void initialise(const BodySpec& body, const BodyPoints& points, const InitialValues& initial);
   // The initial totals of the ledger, once every body is initialised.
   void start_ledger();
 
