@@ -44,6 +44,14 @@ struct Drainage {
   }
   // dk_r / dS.
   double conductivity_slope(double saturation) const { return 3 * (1 - residual) * saturation * saturation; }
+  // The integral of S over the heights lo to hi (both at or above the
+  // water table wt) where the water is at rest, psi = -rho_w g (y - wt):
+  // the height of full pores it equals [m], for the weight of a drained
+  // body (its initial geostatic stress).
+  double saturated_height(double lo, double hi, double water_table, double g) const {
+    const double a = g / (reference_gravity * head);
+    return (std::atan(a * (hi - water_table)) - std::atan(a * (lo - water_table))) / a;
+  }
   // psi of a point from its pore pressure and saturation (the fields it keeps).
   double potential(double pressure, double saturation, double rho_w) const {
     return saturation < 1 ? -pressure_scale(rho_w) * std::sqrt(1 / std::max(saturation, 1e-300) - 1) : pressure;

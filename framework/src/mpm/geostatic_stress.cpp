@@ -19,8 +19,8 @@ struct Stretch {
 
 }  // namespace
 
-void add_geostatic_stress(const Scene& scene, std::span<const double> unit_weights, std::size_t body,
-                          double liquid_density, double g, PointSet& points, PointRange range) {
+void add_geostatic_stress(const Scene& scene, const WeightBetween& weight, std::size_t body, double liquid_density,
+                          double g, PointSet& points, PointRange range) {
   const BodySpec& own = scene.bodies[body];
   if (!own.k0) return;
   const int dim = scene.dim, v = dim - 1;
@@ -67,10 +67,10 @@ void add_geostatic_stress(const Scene& scene, std::span<const double> unit_weigh
         if (st.lo <= top + tolerance && st.hi > top + tolerance && (!holder || st.body < holder->body)) holder = &st;
       if (!holder) break;
       const double end = held_until(*holder, top, tolerance);
-      load += unit_weights[holder->body] * (end - top);
+      load += weight(holder->body, top, end);
       top = end;
     }
-    double total = load + unit_weights[body] * (own_top - y);
+    double total = load + weight(body, y, own_top);
     if (own.water_table) {
       const double rho_g = liquid_density * g;
       total += rho_g * std::max(0.0, *own.water_table - top);  // water ponded on the stack

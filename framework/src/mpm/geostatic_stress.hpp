@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <span>
 
 #include "suffuse/points.hpp"
@@ -15,11 +16,14 @@ namespace suffuse::detail {
 // stacked on it: a body whose bottom is the top of the one below, over the
 // point's horizontal position (a levee on its foundation).
 //
-// unit_weights[b]: body b's total unit weight [N/m^3] (rho g dry,
-// ((1 - n) rho_s + n rho_L) g saturated); liquid_density: the pore liquid's
+// weight(b, lo, hi): the total weight of body b's soil and pore liquid
+// between the heights lo and hi, per unit area [Pa] (rho g (hi - lo) dry,
+// ((1 - n) rho_s + n S rho_L) g integrated saturated, S below 1 where its
+// pores drain above its water table); liquid_density: the pore liquid's
 // density of body `body` (0 if dry); g: gravity's magnitude along the
 // vertical (last) axis, downward.
-void add_geostatic_stress(const Scene& scene, std::span<const double> unit_weights, std::size_t body,
-                          double liquid_density, double g, PointSet& points, PointRange range);
+using WeightBetween = std::function<double(std::size_t body, double lo, double hi)>;
+void add_geostatic_stress(const Scene& scene, const WeightBetween& weight, std::size_t body, double liquid_density,
+                          double g, PointSet& points, PointRange range);
 
 }  // namespace suffuse::detail

@@ -16,6 +16,7 @@
 #include "run/named_condition.hpp"
 #include "run/step_guard.hpp"
 #include "mpm/materials.hpp"
+#include "mixture/drainage.hpp"
 #include "mixture/standing_water.hpp"
 #include "quasi_static/quasi_static.hpp"
 #include "mpm/reactions.hpp"
@@ -188,6 +189,21 @@ int Simulation::process_rank() const { return domain_->comm.rank(); }
 void Simulation::create_bodies() {
   const std::vector<double> weights = unit_weights();
   const double g = -scene_.gravity[scene_.dim - 1];  // along the vertical (last) axis, downward
+  // A body's weight between two heights: its unit weight, less the liquid
+  // its pores do not hold where they drain above its water table (the water
+  // at rest there: docs/phreatic.md), as the quasi-static step weighs it.
+  const detail::WeightBetween weight = [&](std::size_t k, double lo, double hi) {
+    const BodySpec& body = scene_.bodies[k];
+    double w = weights[k] * (hi - lo);
+    const std::optional<DrainageSpec>& drains = scene_.materials[body.material].phreatic;
+    if (body.liquid && drains && body.water_table) {
+      const double wt = *body.water_table, from = std::max(lo, wt), to = std::max(hi, wt);
+      const double rho_l = suspension_density(body.concentration, materials_->phase(body.material).density(),
+                                              mixture_->liquid(*body.liquid).density());
+      w -= body.porosity * rho_l * g * ((to - from) - detail::Drainage(*drains).saturated_height(from, to, wt, g));
+    }
+    return w;
+  };
   for (std::size_t i = 0; i < scene_.bodies.size(); ++i) {
     const BodySpec& body = scene_.bodies[i];
     const Phase& phase = materials_->phase(body.material);
@@ -202,7 +218,7 @@ void Simulation::create_bodies() {
     if (mixture_) mixture_->initialise(body, b, initial);
     if (species_) species_->initialise(body, b, initial);
     const double rho_w = body.liquid ? mixture_->liquid(*body.liquid).density() : 0.0;
-    detail::add_geostatic_stress(scene_, weights, i, rho_w, g, domain_->points, b.range);
+    detail::add_geostatic_stress(scene_, weight, i, rho_w, g, domain_->points, b.range);
     phase.initialise(domain_->points, b.range);
   }
 }
