@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <utility>
 #include <suffuse/error.hpp>
 #include <suffuse/plugin_loader.hpp>
@@ -264,6 +265,39 @@ TEST(WaterLevel, QuasiStaticSubmergedSlopeCarriesItsBuoyantWeight) {
   submerged["time"] = {{"end", 1.0}, {"integration", "quasi_static"}, {"dt", 1.0}};
   submerged.erase("damping");
   expect_buoyant_weight_carried(submerged);
+}
+
+// A head prescribed on the grid's faces beside water levels that reach the
+// same faces: both say the same water, and the levee section at rest stays
+// at rest over quasi-static steps. The levels' pressure on the bodies'
+// sides along the grid's faces was given back only while their points'
+// edges lay on the face to 1e-6 of a cell; once the levee's weight had
+// spread and moved them off it, the faces' nodes read the water's pressure
+// twice (2 gamma_w (9 m - y)), and at the third step the sand's pore
+// pressure stood up to 0.91 gamma_w 9 m off hydrostatic (now 0.003).
+TEST(WaterLevel, QuasiStaticHeadOnAFaceBesideALevelStaysAtRest) {
+  const std::filesystem::path scenes = suffuse::test::source_dir() / "share/scenes";
+  json levee = suffuse::test::read_json(scenes / "levee_section.json");
+  for (json& bc : levee["boundary_conditions"])
+    if (bc["type"] == "bc/water_level") bc["level"] = 9.0;  // still water at the landside ground
+  for (const char* face : {"left", "right"})
+    levee["boundary_conditions"].push_back({{"type", "bc/pore_pressure"}, {"face", face}, {"head", 9.0}});
+  levee["time"]["end"] = 2850.0;  // three steps: 600, 900 and 1350 s
+  levee["outputs"] = json::array();
+  suffuse::Registry registry;
+  suffuse::PluginLoader loader(registry);
+  const suffuse::Scene scene = suffuse::parse_scene(levee.dump(), (scenes / "levee_section.json").string(), scenes,
+                                                    registry, loader);
+  suffuse::Simulation sim(scene, registry);
+  while (sim.time() < scene.end_time - 0.5 * sim.dt()) sim.step();
+  const auto& pts = sim.points();
+  const double* x = pts.data(pts.core().position);
+  const double* p = pts.data(pts.id("pore_pressure"));
+  double worst = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (x[2 * i + 1] < 9.0) worst = std::max(worst, std::abs(p[i] - 9810.0 * (9.0 - x[2 * i + 1])) / (9810.0 * 9.0));
+  EXPECT_LT(worst, 0.01) << "largest departure from hydrostatic below the ground / gamma_w 9 m";
+  RecordProperty("pressure_difference", std::to_string(worst));
 }
 
 // Levels that cannot stand together, or on nothing, are refused before the

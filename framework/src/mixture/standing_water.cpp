@@ -78,9 +78,14 @@ namespace {
 // That is the water's pressure on the whole boundary of the bodies, the
 // faces they share with the grid's boundary included; there the grid face's
 // own conditions act (a fixed base, rollers, a prescribed head), so a point
-// whose domain reaches such a face gives its part of that face back:
-// p_w n A_p on the face's nodes, weighted as on the face (1 along the
-// normal, the point's own weights along the face).
+// whose domain's edge lies on such a face gives its part of that face back:
+// p_w n A_p at its edge, on the nodes as the edge's position weighs them
+// (the face's node and the next one in along the normal, the point's own
+// weights along the face). An edge counts as on the face within a quarter
+// of the point's size: a body held on a face moves off it by its strain.
+// (A give-back only while the edge lay on the face to 1e-6 of a cell
+// stopped after a quasi-static run's first step; its face nodes then took
+// the water's pressure twice, and a head prescribed there read 2 p.)
 template <int D>
 void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupports& s, const GridGeometry& grid,
                           const WaterProfile& water, const double* x, const double* size, const double* volume,
@@ -112,9 +117,10 @@ void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupport
       for (const bool upper : {false, true}) {
         const double plane = grid.origin()[a] + (upper ? cells[a] * grid.cell_size()[a] : 0.0);
         const double edge = xp[a] + (upper ? 0.5 : -0.5) * lp[a];
-        if (!(std::abs(edge - plane) <= 1e-6 * grid.cell_size()[a])) continue;
+        const double gap = std::abs(edge - plane), h = grid.cell_size()[a];
+        if (!(gap <= 0.25 * lp[a])) continue;  // the body's own edge, not a point behind it
         double on_face[3] = {xp[0], xp[1], D == 3 ? xp[2] : 0.0};
-        on_face[a] = plane;
+        on_face[a] = edge;
         const auto [face_level, face_slope] = water.level(on_face[0]);
         const double face_depth = face_level - on_face[D - 1];
         if (!(face_depth > 0)) continue;
@@ -122,7 +128,7 @@ void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupport
         for (int b = 0; b < D; ++b)
           if (b != a) area *= lp[b];
         const double back = gamma * face_depth * area * (upper ? 1.0 : -1.0);  // + p_w n A_p, n outward
-        const int face_index = upper ? cells[a] : 0;
+        const int face_index = upper ? cells[a] : 0, inner_index = upper ? cells[a] - 1 : 1;
         const auto first = grid.node_ijk(static_cast<std::int64_t>(s.first[p]));
         const std::size_t at = p * static_cast<std::size_t>(s.per_point);
         const double* w[3] = {s.weights + at, s.weights + at + s.nodes[0],
@@ -132,8 +138,9 @@ void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupport
           for (int j = 0; j < s.nodes[1]; ++j)
             for (int i = 0; i < s.nodes[0]; ++i) {
               const int offset[3] = {i, j, k};
-              if (first[a] + offset[a] != face_index) continue;
-              double weight = 1;
+              const int along = first[a] + offset[a];
+              if (along != face_index && along != inner_index) continue;
+              double weight = along == face_index ? 1 - gap / h : gap / h;
               for (int b = 0; b < D; ++b)
                 if (b != a) weight *= w[b][offset[b]];
               const std::size_t node =
