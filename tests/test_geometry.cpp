@@ -603,7 +603,23 @@ TEST(Geometry, PointsFromAFileCarryTheirRowsValues) {
           {{"liquid", nullptr}, {"porosity", nullptr}, {"fines_content", nullptr}},
           "a dry body's points with pore_pressure");
   refused("table.csv", head + "pore_pressure [Pa]\n0.1, 0.1, 0.0004, 5\n", {{"water_table", 1.0}},
-          "pore_pressure both per point and by water_table");
+          "pore_pressure both per point and by the body's water_table");
+  refused("saturation.csv", head + "saturation [-]\n0.1, 0.1, 0.0004, 0.5\n", json::object(),
+          "saturation for a material whose pores do not drain");
+
+  // Pores that drain (a phreatic material) take the file's saturation, and
+  // the liquid its own velocity.
+  std::ofstream(dir / "drained.csv") << head + "saturation [-], liquid_velocity_y [m/s]\n0.1, 0.1, 0.0004, 0.25, 0.003\n";
+  json drained = j;
+  drained["materials"]["soil"]["phreatic"] = {{"drainage_head", 0.05}};
+  drained["bodies"][1]["points_file"] = (dir / "drained.csv").string();
+  drained["time"] = {{"end", 0.01}, {"integration", "quasi_static"}, {"dt", 0.01}};
+  const Seeded wet(drained);
+  const suffuse::PointSet& q = wet.points();
+  const std::size_t last = q.size() - 1;
+  EXPECT_EQ(q.data(q.id("saturation"))[last], 0.25);
+  EXPECT_EQ(q.data(q.id("liquid_velocity"))[2 * last], 0.5) << "liquid_velocity_x: the skeleton's, the body's key";
+  EXPECT_EQ(q.data(q.id("liquid_velocity"))[2 * last + 1], 0.003);
 }
 
 // A run's own points (writer/vtk_particles) start a body with their fields:
@@ -633,8 +649,36 @@ TEST(Geometry, PointsFromARunsVtpFileStartFromItsFields) {
   const Seeded seeded(file);
   const suffuse::PointSet &a = run.points(), &b = seeded.points();
   ASSERT_EQ(a.size(), b.size());
-  for (const char* field : {"position", "volume", "stress", "pore_pressure", "porosity", "velocity"}) {
+  for (const char* field : {"position", "volume", "stress", "pore_pressure", "porosity", "velocity", "liquid_velocity"}) {
     const auto va = a.values(a.id(field)), vb = b.values(b.id(field));
     EXPECT_LT(suffuse::test::max_relative_difference(va, vb), 1e-15) << field;
   }
+}
+
+// A .vtp file's stress is a symmetric tensor in VTK's order, XX YY ZZ XY YZ
+// XZ (as writer/vtk_particles writes it): read back in suffuse's Voigt order,
+// xx yy zz yz xz xy, each shear component where it belongs.
+TEST(Geometry, PointsFromAVtpFileTakeTheirStressInVtksOrder) {
+  const fs::path dir = fs::temp_directory_path() / "suffuse_geometry_vtp_stress";
+  fs::create_directories(dir);
+  std::ofstream(dir / "stress.vtp")
+      << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "<PolyData><Piece NumberOfPoints=\"1\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
+         "NumberOfPolys=\"0\">\n<PointData>"
+         "<DataArray type=\"Float64\" Name=\"volume\" format=\"ascii\">0.0004</DataArray>"
+         "<DataArray type=\"Float64\" Name=\"stress\" NumberOfComponents=\"6\" format=\"ascii\">"
+         "-1 -2 -3 4 5 6</DataArray>"
+         "<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">"
+         "0.1 0.2 0</DataArray></PointData>\n"
+         "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0.5 0.5 0</DataArray>"
+         "</Points></Piece></PolyData></VTKFile>\n";
+  const Seeded seeded(
+      scene_with(2, 10, json::array({{{"material", "soil"}, {"points_file", (dir / "stress.vtp").string()}}})));
+  const suffuse::PointSet& pts = seeded.points();
+  ASSERT_EQ(pts.size(), 1u);
+  const double* sigma = pts.data(pts.core().stress);
+  const double voigt[6] = {-1, -2, -3, 5, 6, 4};  // xx yy zz yz xz xy from XX YY ZZ XY YZ XZ
+  for (int c = 0; c < 6; ++c) EXPECT_EQ(sigma[c], voigt[c]) << "component " << c;
+  EXPECT_EQ(pts.data(pts.core().velocity)[0], 0.1);
+  EXPECT_EQ(pts.data(pts.core().velocity)[1], 0.2);
 }

@@ -63,10 +63,11 @@ struct BodySpec {
   std::vector<double> points;
   // Such a body's initial fields per point, where its file gives them: one
   // entry per row of `points`, in order (stress: 6 per point, Voigt,
-  // effective, tension positive; velocity: dim per point). An empty field
-  // takes the body's key at every point.
+  // effective, tension positive; velocities: dim per point). An empty field
+  // takes the body's key at every point (the liquid's velocity: the
+  // skeleton's; the saturation: the one its water table gives).
   struct PointValues {
-    std::vector<double> stress, pore_pressure, porosity, velocity, fines_content;
+    std::vector<double> stress, pore_pressure, porosity, velocity, fines_content, liquid_velocity, saturation;
   } point_values;
   int points_per_cell = 2;  // per axis
   std::array<double, 3> velocity{};

@@ -38,8 +38,9 @@ SurfaceSeeds seed_surface(const std::filesystem::path& file, const SurfaceLattic
 // coordinates, the volume) per point, from its points and its point-data
 // array "volume"; and the initial fields the file holds, of the arrays
 // "stress" (6 components; returned in suffuse's order xx yy zz yz xz xy),
-// "pore_pressure", "porosity", "velocity" (3 components; returned with dim)
-// and "fines_content", as a suffuse run writes them. Throws suffuse::Error
+// "pore_pressure", "porosity", "velocity" and "liquid_velocity" (3
+// components; returned with dim), "fines_content" and "saturation", as a
+// suffuse run writes them. Throws suffuse::Error
 // naming the file: unreadable, no point, no volumes, one of those arrays
 // with other components, or (2D) a point off the plane z = 0.
 struct VtpPoints {

@@ -192,7 +192,8 @@ extern "C" void suffuse_points_read(const fs::path& file, int dim, suffuse::deta
   };
   points.fields.clear();
   for (const Wanted w : {Wanted{"stress", 6}, Wanted{"pore_pressure", 1}, Wanted{"porosity", 1},
-                         Wanted{"velocity", 3}, Wanted{"fines_content", 1}}) {
+                         Wanted{"velocity", 3}, Wanted{"fines_content", 1}, Wanted{"liquid_velocity", 3},
+                         Wanted{"saturation", 1}}) {
     vtkDataArray* array = data->GetPointData()->GetArray(w.name);
     if (!array) continue;
     if (array->GetNumberOfComponents() != w.components)

@@ -44,13 +44,16 @@ struct Drainage {
   }
   // dk_r / dS.
   double conductivity_slope(double saturation) const { return 3 * (1 - residual) * saturation * saturation; }
-  // The integral of S over the heights lo to hi (both at or above the
-  // water table wt) where the water is at rest, psi = -rho_w g (y - wt):
-  // the height of full pores it equals [m], for the weight of a drained
-  // body (its initial geostatic stress).
-  double saturated_height(double lo, double hi, double water_table, double g) const {
+  // The integral of S over the heights lo to hi (lo <= hi) where the water
+  // is at rest, psi = -rho_w g (y - y0), y0 the height where psi is zero
+  // (S = 1 below it): the height of full pores it equals [m], for the
+  // weight of a drained body (its initial geostatic stress). Without
+  // gravity psi is zero: the pores are full.
+  double saturated_height(double lo, double hi, double y0, double g) const {
     const double a = g / (reference_gravity * head);
-    return (std::atan(a * (hi - water_table)) - std::atan(a * (lo - water_table))) / a;
+    if (!(a > 0)) return hi - lo;
+    const double full = std::clamp(y0, lo, hi) - lo, from = std::max(lo, y0), to = std::max(hi, y0);
+    return full + (std::atan(a * (to - y0)) - std::atan(a * (from - y0))) / a;
   }
   // psi of a point from its pore pressure and saturation (the fields it keeps).
   double potential(double pressure, double saturation, double rho_w) const {

@@ -85,11 +85,11 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b, con
       double S = 1;
       if (drains && body.water_table && x[p * dim + dim - 1] > *body.water_table)
         S = Drainage(*drains).saturation(pressure - rho_w * g * (x[p * dim + dim - 1] - *body.water_table), rho_w);
-      pts.data(*f_.saturation)[p] = S;
+      pts.data(*f_.saturation)[p] = initial.saturation(p).value_or(S);
     }
     pts.data(f_.pressure)[p] = pressure;
     pts.data(f_.bulk_modulus)[p] = liquid.bulk_modulus();
-    for (int a = 0; a < dim; ++a) pts.data(f_.liquid_velocity)[p * dim + a] = initial.velocity(p, a);
+    for (int a = 0; a < dim; ++a) pts.data(f_.liquid_velocity)[p * dim + a] = initial.liquid_velocity(p, a);
     pts.data(f_.grain_density)[p] = rho_s;
     pts.data(f_.water_density)[p] = rho_w;
     pts.data(f_.liquid_density)[p] = rho_l;

@@ -82,7 +82,8 @@ namespace {
 // p_w n A_p at its edge, on the nodes as the edge's position weighs them
 // (the face's node and the next one in along the normal, the point's own
 // weights along the face). An edge counts as on the face within a quarter
-// of the point's size: a body held on a face moves off it by its strain.
+// of the point's (uGIMP) size: a body held on a face moves off it by its
+// strain.
 // (A give-back only while the edge lay on the face to 1e-6 of a cell
 // stopped after a quasi-static run's first step; its face nodes then took
 // the water's pressure twice, and a head prescribed there read 2 p.)
@@ -116,11 +117,14 @@ void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupport
     for (int a = 0; a < D; ++a)
       for (const bool upper : {false, true}) {
         const double plane = grid.origin()[a] + (upper ? cells[a] * grid.cell_size()[a] : 0.0);
-        const double edge = xp[a] + (upper ? 0.5 : -0.5) * lp[a];
-        const double gap = std::abs(edge - plane), h = grid.cell_size()[a];
-        if (!(gap <= 0.25 * lp[a])) continue;  // the body's own edge, not a point behind it
+        // The edge as uGIMP sees it (half the size, at most half a cell),
+        // and how far inside the face (an edge pushed past it is on it).
+        const double h = grid.cell_size()[a], half = std::min(0.5 * lp[a], 0.5 * h);
+        const double edge = xp[a] + (upper ? half : -half);
+        const double gap = std::max(0.0, upper ? plane - edge : edge - plane);
+        if (!(gap <= 0.5 * half)) continue;  // the body's own edge, not a point behind it
         double on_face[3] = {xp[0], xp[1], D == 3 ? xp[2] : 0.0};
-        on_face[a] = edge;
+        on_face[a] = upper ? plane - gap : plane + gap;
         const auto [face_level, face_slope] = water.level(on_face[0]);
         const double face_depth = face_level - on_face[D - 1];
         if (!(face_depth > 0)) continue;

@@ -183,10 +183,10 @@ BodyPoints Domain::create_body(const BodySpec& body, double solid_density, std::
   double* size = points.data(f.size);
   double* stress = points.data(f.stress);
   file_rows.clear();
-  if (!body.points.empty()) file_rows.reserve(total);
-  for_each_point([&](const std::array<double, 3>&, double, std::size_t row) {
-    if (!body.points.empty()) file_rows.push_back(row);
-  });
+  if (!body.points.empty()) {
+    file_rows.reserve(total);
+    for_each_point([&](const std::array<double, 3>&, double, std::size_t row) { file_rows.push_back(row); });
+  }
   const BodyPoints made{body.name, body.material, {first, first + total}, body.liquid.has_value()};
   const InitialValues initial(body, made, file_rows, D);
   std::size_t p = first;

@@ -4,6 +4,7 @@
 // key. `rows`: the file's row of each of the body's points (points an
 // earlier body holds were dropped); empty for bodies of a shape.
 #include <cstddef>
+#include <optional>
 #include <span>
 
 #include "mpm/domain.hpp"
@@ -26,6 +27,15 @@ class InitialValues {
   double velocity(std::size_t p, int a) const {
     const auto& v = body_.point_values.velocity;
     return v.empty() ? body_.velocity[static_cast<std::size_t>(a)] : v[row(p) * dim_ + static_cast<std::size_t>(a)];
+  }
+  double liquid_velocity(std::size_t p, int a) const {
+    const auto& v = body_.point_values.liquid_velocity;
+    return v.empty() ? velocity(p, a) : v[row(p) * dim_ + static_cast<std::size_t>(a)];
+  }
+  // The file's saturation of the point, if it gives one.
+  std::optional<double> saturation(std::size_t p) const {
+    const auto& v = body_.point_values.saturation;
+    return v.empty() ? std::nullopt : std::optional<double>(v[row(p)]);
   }
 
  private:

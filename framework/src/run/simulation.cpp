@@ -197,10 +197,13 @@ void Simulation::create_bodies() {
     double w = weights[k] * (hi - lo);
     const std::optional<DrainageSpec>& drains = scene_.materials[body.material].phreatic;
     if (body.liquid && drains && body.water_table) {
+      // Above the table psi = p_0 - rho_w g (y - wt) (p_0 the body's pore
+      // pressure key), zero at y0, as the mixture sets S (initialise).
       const double wt = *body.water_table, from = std::max(lo, wt), to = std::max(hi, wt);
-      const double rho_l = suspension_density(body.concentration, materials_->phase(body.material).density(),
-                                              mixture_->liquid(*body.liquid).density());
-      w -= body.porosity * rho_l * g * ((to - from) - detail::Drainage(*drains).saturated_height(from, to, wt, g));
+      const double rho_w = mixture_->liquid(*body.liquid).density();
+      const double y0 = g > 0 ? wt + body.pore_pressure / (rho_w * g) : wt;
+      const double rho_l = suspension_density(body.concentration, materials_->phase(body.material).density(), rho_w);
+      w -= body.porosity * rho_l * g * ((to - from) - detail::Drainage(*drains).saturated_height(from, to, y0, g));
     }
     return w;
   };

@@ -37,10 +37,10 @@ ParameterSchema body_schema() {
       "A body of points generated elsewhere, instead of a shape: a CSV file relative to the scene, a header with "
       "units (\"x [m], y [m], volume [m^2]\" in 2D, \"x [m], y [m], z [m], volume [m^3]\" in 3D; lengths in m, cm or "
       "mm) and a row per point, optionally followed by columns of initial fields per point (stress_xx ... "
-      "stress_xy [Pa], pore_pressure [Pa], porosity [-], velocity_x ... [m/s], fines_content [-]) that replace "
-      "the body's keys there; or a VTK .vtp file, its points (in metres; z = 0 in 2D) with a point-data array "
-      "\"volume\" and, if present, the arrays stress, pore_pressure, porosity, velocity and fines_content as a "
-      "run writes them (docs/geometry.md)");
+      "stress_xy [Pa], pore_pressure [Pa], porosity [-], velocity_x ... [m/s], fines_content [-], "
+      "liquid_velocity_x ... [m/s], saturation [-]) that replace the body's keys there; or a VTK .vtp file, its "
+      "points (in metres; z = 0 in 2D) with a point-data array \"volume\" and, if present, the arrays of those "
+      "fields as a run writes them (docs/geometry.md)");
   s.string("surface_file").may_be_absent().doc(
       "3D: a body inside a closed triangulated surface, instead of a shape: an STL or VTK .vtp file relative to "
       "the scene, lengths in metres; the points of the grid's lattice (points_per_cell per cell and axis) inside "
@@ -184,17 +184,20 @@ std::optional<PointColumn> point_column(const std::string& name, int dim) {
   static const char* voigt[6] = {"xx", "yy", "zz", "yz", "xz", "xy"};
   for (int c = 0; c < 6; ++c)
     if (name == std::string("stress_") + voigt[c]) return PointColumn{"stress", c, "Pa"};
-  for (int a = 0; a < dim; ++a)
+  for (int a = 0; a < dim; ++a) {
     if (name == std::string("velocity_") + char('x' + a)) return PointColumn{"velocity", a, "m/s"};
-  for (const char* f : {"pore_pressure", "porosity", "fines_content"})
+    if (name == std::string("liquid_velocity_") + char('x' + a)) return PointColumn{"liquid_velocity", a, "m/s"};
+  }
+  for (const char* f : {"pore_pressure", "porosity", "fines_content", "saturation"})
     if (name == f) return PointColumn{f, 0, name == "pore_pressure" ? "Pa" : "-"};
   return std::nullopt;
 }
 
 std::string point_column_names(int dim) {
-  return std::string("stress_xx, stress_yy, stress_zz, stress_yz, stress_xz, stress_xy [Pa], pore_pressure [Pa], "
-                     "porosity [-], ") +
-         (dim == 2 ? "velocity_x, velocity_y" : "velocity_x, velocity_y, velocity_z") + " [m/s], fines_content [-]";
+  const std::string v = dim == 2 ? "velocity_x, velocity_y" : "velocity_x, velocity_y, velocity_z";
+  return "stress_xx, stress_yy, stress_zz, stress_yz, stress_xz, stress_xy [Pa], pore_pressure [Pa], porosity [-], " +
+         v + " [m/s], fines_content [-], liquid_" + (dim == 2 ? "velocity_x, liquid_velocity_y" :
+         "velocity_x, liquid_velocity_y, liquid_velocity_z") + " [m/s], saturation [-]";
 }
 
 // A CSV file's header cells, names without their units.
@@ -216,31 +219,45 @@ std::vector<std::string> header_names(const std::filesystem::path& file) {
 std::vector<double>& field_values(BodySpec& body, const std::string& field) {
   auto& v = body.point_values;
   return field == "stress" ? v.stress : field == "velocity" ? v.velocity : field == "porosity" ? v.porosity
-         : field == "pore_pressure" ? v.pore_pressure : v.fines_content;
+         : field == "pore_pressure" ? v.pore_pressure : field == "liquid_velocity" ? v.liquid_velocity
+         : field == "saturation" ? v.saturation : v.fines_content;
+}
+
+std::size_t components_of(const std::string& field, int dim) {
+  return field == "stress" ? 6 : field == "velocity" || field == "liquid_velocity" ? static_cast<std::size_t>(dim) : 1;
 }
 
 void fill_from_keys(BodySpec& body, const std::string& field, std::size_t count, int dim) {
   std::vector<double>& v = field_values(body, field);
   if (field == "stress") {
     for (std::size_t p = 0; p < count; ++p) v.insert(v.end(), body.stress.begin(), body.stress.end());
-  } else if (field == "velocity") {
+  } else if (field == "velocity" || field == "liquid_velocity") {
+    // A liquid velocity the file gives in part: the rest from the skeleton's (the body's key).
     for (std::size_t p = 0; p < count; ++p) v.insert(v.end(), body.velocity.begin(), body.velocity.begin() + dim);
+  } else if (field == "saturation") {
+    v.assign(count, 1.0);
   } else {
     v.assign(count, 0.0);
   }
 }
 
 // Each point's initial values in range, and the body's keys they replace.
-void check_point_values(const BodySpec& body, const Parameters& b, const std::vector<std::string>& where) {
+void check_point_values(const BodySpec& body, const Parameters& b, bool drains, const std::string& file,
+                        const std::vector<std::string>& where) {
   const auto& v = body.point_values;
   const bool wet = body.liquid.has_value();
-  for (const auto& [name, values] : {std::pair{"pore_pressure", &v.pore_pressure}, std::pair{"porosity", &v.porosity},
-                                     std::pair{"fines_content", &v.fines_content}})
+  for (const auto& [name, values] :
+       {std::pair{"pore_pressure", &v.pore_pressure}, std::pair{"porosity", &v.porosity},
+        std::pair{"fines_content", &v.fines_content}, std::pair{"liquid_velocity", &v.liquid_velocity},
+        std::pair{"saturation", &v.saturation}})
     if (!values->empty() && !wet)
-      throw Error(std::string("a dry body's points with ") + name + ": expected " + name +
-                  " only for a body with \"liquid\", found the column \"" + name + "\"");
+      throw Error(file + ": a dry body's points with " + name + ": expected " + name +
+                  " only for a body with \"liquid\", found it in the file");
+  if (!v.saturation.empty() && !drains)
+    throw Error(file + ": saturation for a material whose pores do not drain: expected saturation only for a "
+                "material with \"phreatic\", found it in the file");
   if (!v.pore_pressure.empty() && b.has("water_table"))
-    throw Error("pore_pressure both per point and by water_table: expected one of them, found both");
+    throw Error(file + ": pore_pressure both per point and by the body's water_table: expected one of them, found both");
   for (std::size_t k = 0; k < where.size(); ++k) {
     if (!v.porosity.empty() && !(v.porosity[k] > 0 && v.porosity[k] < 1))
       throw Error(where[k] + ": porosity out of range: expected a porosity in (0, 1), found " + format(v.porosity[k]));
@@ -248,12 +265,17 @@ void check_point_values(const BodySpec& body, const Parameters& b, const std::ve
         !(v.fines_content[k] >= body.ultimate_fines_content && v.fines_content[k] < 1))
       throw Error(where[k] + ": fines_content out of range: expected fines_content in [ultimate_fines_content = " +
                   format(body.ultimate_fines_content) + ", 1), found " + format(v.fines_content[k]));
-    for (const std::vector<double>* values : {&v.stress, &v.pore_pressure, &v.velocity})
+    if (!v.saturation.empty() && !(v.saturation[k] > 0 && v.saturation[k] <= 1))
+      throw Error(where[k] + ": saturation out of range: expected a saturation in (0, 1], found " +
+                  format(v.saturation[k]));
+    for (const auto& [name, values] : {std::pair{"stress", &v.stress}, std::pair{"pore_pressure", &v.pore_pressure},
+                                       std::pair{"velocity", &v.velocity},
+                                       std::pair{"liquid_velocity", &v.liquid_velocity}})
       if (!values->empty()) {
         const std::size_t per = values->size() / where.size();
         for (std::size_t c = 0; c < per; ++c)
           if (!std::isfinite((*values)[k * per + c]))
-            throw Error(where[k] + ": not a number: expected finite initial values, found " +
+            throw Error(where[k] + ": " + name + " not a number: expected finite initial values, found " +
                         format((*values)[k * per + c]));
       }
   }
@@ -285,9 +307,12 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
         where.push_back(file.string() + ", point " + std::to_string(k));
       }
       // A dry body reads only stress and velocity: a saturated run's files
-      // hold its pores' fields too.
+      // hold its pores' fields too; the saturation only a material whose
+      // pores drain.
+      const bool drains = scene.materials.size() > body.material && scene.materials[body.material].phreatic;
       for (auto& [field, values] : read.fields)
-        if (body.liquid || field == "stress" || field == "velocity") field_values(body, field) = std::move(values);
+        if ((body.liquid || field == "stress" || field == "velocity") && (field != "saturation" || drains))
+          field_values(body, field) = std::move(values);
     } else {
       std::vector<UnitColumn> columns;
       for (int a = 0; a < D; ++a) columns.push_back({std::string(1, char('x' + a)), Quantity::length, false, ""});
@@ -314,7 +339,7 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
       for (std::size_t k = 0; k < t.rows.size(); ++k)
         for (std::size_t c = 0; c < given.size(); ++c) {
           const std::string field = given[c].field;
-          const std::size_t per = field == "stress" ? 6 : field == "velocity" ? static_cast<std::size_t>(D) : 1;
+          const std::size_t per = components_of(field, D);
           field_values(body, field)[k * per + static_cast<std::size_t>(given[c].component)] =
               t.rows[k][static_cast<std::size_t>(D + 1) + c];
         }
@@ -322,7 +347,8 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
       rows = std::move(t.rows);
       for (const auto line : t.lines) where.push_back(file.string() + ":" + std::to_string(line));
     }
-    check_point_values(body, b, where);
+    check_point_values(body, b, scene.materials.size() > body.material && scene.materials[body.material].phreatic,
+                       file.string(), where);
     for (std::size_t k = 0; k < rows.size(); ++k) {
       if (!(rows[k][D] > 0)) throw Error(where[k] + ": volume not positive: expected a volume > 0, found " + format(rows[k][D]));
       if (r.grid_ok)
