@@ -609,7 +609,8 @@ TEST(Geometry, PointsFromAFileCarryTheirRowsValues) {
 
   // Pores that drain (a phreatic material) take the file's saturation, and
   // the liquid its own velocity.
-  std::ofstream(dir / "drained.csv") << head + "saturation [-], liquid_velocity_y [m/s]\n0.1, 0.1, 0.0004, 0.25, 0.003\n";
+  std::ofstream(dir / "drained.csv") << head + "saturation [-], liquid_velocity_y [m/s], velocity_x [m/s]\n"
+                                              "0.1, 0.1, 0.0004, 0.25, 0.003, 0.2\n";
   json drained = j;
   drained["materials"]["soil"]["phreatic"] = {{"drainage_head", 0.05}};
   drained["bodies"][1]["points_file"] = (dir / "drained.csv").string();
@@ -618,7 +619,7 @@ TEST(Geometry, PointsFromAFileCarryTheirRowsValues) {
   const suffuse::PointSet& q = wet.points();
   const std::size_t last = q.size() - 1;
   EXPECT_EQ(q.data(q.id("saturation"))[last], 0.25);
-  EXPECT_EQ(q.data(q.id("liquid_velocity"))[2 * last], 0.5) << "liquid_velocity_x: the skeleton's, the body's key";
+  EXPECT_EQ(q.data(q.id("liquid_velocity"))[2 * last], 0.2) << "liquid_velocity_x: the skeleton's, from the file";
   EXPECT_EQ(q.data(q.id("liquid_velocity"))[2 * last + 1], 0.003);
 }
 

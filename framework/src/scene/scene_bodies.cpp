@@ -232,7 +232,8 @@ void fill_from_keys(BodySpec& body, const std::string& field, std::size_t count,
   if (field == "stress") {
     for (std::size_t p = 0; p < count; ++p) v.insert(v.end(), body.stress.begin(), body.stress.end());
   } else if (field == "velocity" || field == "liquid_velocity") {
-    // A liquid velocity the file gives in part: the rest from the skeleton's (the body's key).
+    // A liquid velocity the file gives in part: the rest the skeleton's (the body's key; read_points
+    // puts the file's in where it gives them).
     for (std::size_t p = 0; p < count; ++p) v.insert(v.end(), body.velocity.begin(), body.velocity.begin() + dim);
   } else if (field == "saturation") {
     v.assign(count, 1.0);
@@ -343,6 +344,16 @@ void read_points(SceneReader& r, const Scene& scene, const Parameters& b, const 
           field_values(body, field)[k * per + static_cast<std::size_t>(given[c].component)] =
               t.rows[k][static_cast<std::size_t>(D + 1) + c];
         }
+      // A liquid velocity the file gives in part: its other components the
+      // skeleton's, the file's where it gives them (else the body's key).
+      std::vector<double>& liquid = body.point_values.liquid_velocity;
+      const std::vector<double>& skeleton = body.point_values.velocity;
+      if (!liquid.empty() && !skeleton.empty())
+        for (int a = 0; a < D; ++a)
+          if (std::none_of(given.begin(), given.end(), [&](const PointColumn& g) {
+                return std::string(g.field) == "liquid_velocity" && g.component == a;
+              }))
+            for (std::size_t k = 0; k < t.rows.size(); ++k) liquid[k * D + a] = skeleton[k * D + a];
       for (auto& row : t.rows) row.resize(static_cast<std::size_t>(D + 1));
       rows = std::move(t.rows);
       for (const auto line : t.lines) where.push_back(file.string() + ":" + std::to_string(line));
