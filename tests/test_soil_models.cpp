@@ -596,6 +596,69 @@ TEST(MohrCoulomb, TangentIsTheDerivativeOfTheReturn) {
   }
 }
 
+// A strength reduction by F (StressBatch::strength_reduction, the factor of
+// safety's) is the material with c / F, tan(phi) / F and tan(psi) / F, its
+// tension cut-off at most the reduced apex: every return and tangent equals
+// that material's to round-off, on the plane, the edges, the apex and the
+// cut-off.
+TEST(MohrCoulomb, StrengthReductionIsTheReducedMaterial) {
+  const double F = 1.7;
+  auto reduced_angle = [&](double degrees) { return std::atan(std::tan(degrees * pi / 180) / F) * 180 / pi; };
+  auto with_cut_off = sand;
+  with_cut_off["tensile_strength"] = 6e3;  // above the reduced apex c cot(phi) / F = 5.7 kPa: the apex's
+  auto low_cut_off = sand;
+  low_cut_off["tensile_strength"] = 2e3;  // below it: kept
+  for (const nlohmann::json& material : {sand, with_cut_off, low_cut_off}) {
+    OnePoint reducing("phase/mohr_coulomb", material);
+    auto weaker = material;
+    weaker["cohesion"] = material["cohesion"].get<double>() / F;
+    weaker["friction_angle"] = reduced_angle(material["friction_angle"].get<double>());
+    weaker["dilatancy_angle"] = reduced_angle(material["dilatancy_angle"].get<double>());
+    const double phi = weaker["friction_angle"].get<double>() * pi / 180;
+    const double apex = weaker["cohesion"].get<double>() * std::cos(phi) / std::sin(phi);
+    if (material.contains("tensile_strength"))
+      weaker["tensile_strength"] = std::min(material["tensile_strength"].get<double>(), apex);
+    OnePoint reduced("phase/mohr_coulomb", weaker);
+    ASSERT_TRUE(reducing.phase->reduces_strength());
+    std::mt19937 rng(5);
+    std::normal_distribution<double> n(0.0, 2e-3);
+    std::uniform_real_distribution<double> pressure(0.0, 100e3);
+    int plastic = 0;
+    for (int k = 0; k < 200; ++k) {
+      std::array<double, 6> start{}, de{};
+      for (int i = 0; i < 6; ++i) start[i] = i < 3 ? -pressure(rng) : 0.0;
+      for (int i = 0; i < 6; ++i) de[i] = n(rng) + (k % 4 == 0 && i < 3 ? 3e-3 : 0.0);
+      double* L[2] = {reducing.points.data(reducing.points.core().velocity_gradient),
+                      reduced.points.data(reduced.points.core().velocity_gradient)};
+      const int map[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
+      for (double* l : L)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) l[i * 3 + j] = de[map[i][j]];
+      std::copy(start.begin(), start.end(), reducing.stress());
+      std::copy(start.begin(), start.end(), reduced.stress());
+      reducing.phase->update_stress(suffuse::StressBatch{reducing.points, {0, 1}, 1.0, {}, F});
+      reduced.phase->update_stress(suffuse::StressBatch{reduced.points, {0, 1}, 1.0, {}});
+      for (int c = 0; c < 6; ++c)
+        ASSERT_NEAR(reducing.stress()[c], reduced.stress()[c], 1e-9 * 100e3) << "case " << k << ", component " << c;
+      if (reduced.points.data(reduced.points.id("yielding"))[0] == 0) continue;
+      ++plastic;
+      std::vector<double> D_reducing(36), D_reduced(36);
+      ASSERT_TRUE(reducing.phase->tangent(suffuse::StressBatch{reducing.points, {0, 1}, 1.0, {}, F}, D_reducing));
+      ASSERT_TRUE(reduced.phase->tangent(suffuse::StressBatch{reduced.points, {0, 1}, 1.0, {}}, D_reduced));
+      for (int c = 0; c < 36; ++c) ASSERT_NEAR(D_reducing[c], D_reduced[c], 1e-9 * 2e7) << "case " << k;
+    }
+    EXPECT_GT(plastic, 50) << "the test reached the reduced yield surface";
+    // Without a reduction (F = 1) the material is its own.
+    OnePoint own("phase/mohr_coulomb", material);
+    std::array<double, 6> start = {-20e3, -60e3, -20e3, 0, 0, 0};
+    std::copy(start.begin(), start.end(), own.stress());
+    std::copy(start.begin(), start.end(), reducing.stress());
+    own.strain({1e-3, -3e-3, 0, 0, 0, 1e-3});
+    reducing.strain({1e-3, -3e-3, 0, 0, 0, 1e-3});
+    for (int c = 0; c < 6; ++c) EXPECT_EQ(own.stress()[c], reducing.stress()[c]);
+  }
+}
+
 // Phase::elastic_stiffness after a plastic step is the stiffness the
 // stress follows when it unloads (what phase/suffosion's substeps relax a
 // point with), not the plastic tangent: from returned states on the plane,

@@ -1,5 +1,6 @@
 // suffuse run: a scene's run with a progress line, its summary and mass
 // ledger; SIGINT and SIGTERM stop it after a step with every output closed.
+#include <algorithm>
 #include <signal.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -229,6 +230,16 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
                 << s.halved_steps << " attempts halved";
       std::cout << "; " << s.factorisations << " factorisations, " << s.gmres_iterations << " GMRES iterations";
       std::cout << "\n";
+      if (!s.factors_of_safety.empty()) {
+        // The lowest over the run, and the last.
+        auto lowest = std::min_element(s.factors_of_safety.begin(), s.factors_of_safety.end(),
+                                       [](const auto& a, const auto& b) { return a.second.factor < b.second.factor; });
+        std::cout << "  factor of safety (strength reduction, " << s.factors_of_safety.size() << " evaluations): "
+                  << std::setprecision(4) << lowest->second.factor << " at t = " << std::setprecision(6)
+                  << lowest->first << " s, the lowest; " << std::setprecision(4)
+                  << s.factors_of_safety.back().second.factor << " at the end (" << scene.name
+                  << ".factor_of_safety.csv)\n";
+      }
       if (s.creep_held_most > 0)
         std::cout << "  creep: material points without stiffness in some direction (separated, or at a yield "
                      "surface's apex; the creep term, /time/creep, holds them unless zero): "

@@ -62,6 +62,10 @@ struct StressBatch {
   // (point p at (p - range.begin) * 6), as the phase's eigenstrain() wrote
   // it; empty when the phase writes none.
   std::span<const double> eigenstrain;
+  // The factor F of a strength reduction (docs/slope-stability.md): a phase
+  // that reduces_strength() divides its strength by it in update_stress and
+  // tangent (Mohr-Coulomb: c / F and tan(phi) / F). 1 in every step of a run.
+  double strength_reduction = 1.0;
 };
 
 // Strain and spin increments of a point over the step, 3x3 (zero out of
@@ -165,6 +169,11 @@ class Phase {
   virtual bool elastic_stiffness(const StressBatch& batch, std::span<double> stiffness) const {
     return tangent(batch, stiffness);
   }
+
+  // Optional: true if the phase divides its strength by the batch's
+  // strength_reduction (the shear strength reduction that gives a factor of
+  // safety). A scene asks for a factor of safety only where some phase does.
+  virtual bool reduces_strength() const { return false; }
 
   // Advance the stress (and the phase's own state) of the batch over dt.
   // Called from several threads at once on disjoint batches: write only the

@@ -100,6 +100,16 @@ struct ReactionSpec {
   std::string name;       // names its columns
 };
 
+// /factor_of_safety (docs/slope-stability.md): when and how finely the shear
+// strength reduction finds the factor of safety of a quasi-static run.
+struct FactorOfSafetySpec {
+  std::optional<double> interval;  // [s] between evaluations; absent: at the start and the end only
+  double tolerance = 0.01;         // the bracket's width in F at which the search stops
+  double increment = 0.2;          // the first steps of F from 1, until a solve fails
+  double max_factor = 10;          // F is not raised beyond it (a factor "at least" it)
+  int max_iterations = 60;         // Newton iterations after which a solve counts as failed
+};
+
 // How each point's volumetric strain rate is obtained: from its own velocity
 // gradient, or as the volume-weighted mean over the points of its cell.
 enum class VolumetricStrain { point, cell_average };
@@ -153,6 +163,7 @@ struct Scene {
   // checkpoint keys, /description): a checkpoint is only for its own scene.
   std::string fingerprint;
   std::vector<OutputSpec> outputs;
+  std::optional<FactorOfSafetySpec> factor_of_safety;
 
   bool erodible() const {
     for (const MaterialSpec& m : materials)

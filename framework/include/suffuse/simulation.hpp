@@ -18,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "suffuse/grid.hpp"
@@ -39,17 +40,20 @@ class SpeciesTransport;
 class GridProjection;
 class StepGuard;
 class QuasiStatic;
+class StrengthReduction;
 class PointOrder;
 class StandingWaterLoad;
 }  // namespace detail
 
 // The stages of a step, in order, and the writing of outputs.
 // Quasi-static steps add "solve" (the implicit u-p equilibrium, stresses
-// included) and reuse shape, g2p, erosion, transport, permeability, check.
+// included) and reuse shape, g2p, erosion, transport, permeability, check;
+// "safety" is the time the factors of safety took (/factor_of_safety).
 enum class Stage {
-  shape, p2g, grid, g2p, remap, strain, pore_pressure, erosion, permeability, stress, transport, check, output, solve
+  shape, p2g, grid, g2p, remap, strain, pore_pressure, erosion, permeability, stress, transport, check, output, solve,
+  safety
 };
-inline constexpr std::size_t stage_count = 14;
+inline constexpr std::size_t stage_count = 15;
 const char* stage_name(Stage stage);
 
 // Wall time spent in each stage, for the run summary [s].
@@ -79,6 +83,16 @@ struct RunOptions {
   // step, writes every output and a checkpoint at that time, and returns
   // with RunSummary::interrupted set.
   const std::atomic<bool>* stop = nullptr;
+};
+
+// The factor of safety of a state by shear strength reduction
+// (Simulation::factor_of_safety, docs/slope-stability.md).
+struct SafetyFactor {
+  double factor = 1;  // the largest F at which an equilibrium was found: the factor of safety
+  // The smallest F tried without one (infinity: every F up to max_factor held).
+  double failed_at = std::numeric_limits<double>::infinity();
+  int solves = 0;              // equilibria tried
+  int newton_iterations = 0;   // over every solve
 };
 
 struct RunSummary {
@@ -111,6 +125,8 @@ struct RunSummary {
   // Times the points were sorted again into the grid's order
   // (/sort_points_at_spread), points moving between processes.
   std::size_t point_sorts = 0;
+  // Scenes with /factor_of_safety: each evaluation's time [s] and result.
+  std::vector<std::pair<double, SafetyFactor>> factors_of_safety;
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
   // Runs on many processes: the values this process received from the
   // others in the scatters' exchanges (8 bytes each), over the run.
@@ -200,6 +216,13 @@ class Simulation {
   // The liquid of /liquids entry `index` (scene order); saturated runs only.
   const Liquid& liquid(std::size_t index) const;
 
+  // Quasi-static runs whose scene has a phase that reduces its strength
+  // (phase/mohr_coulomb): the factor of safety of the state now, with the
+  // scene's /factor_of_safety controls (their defaults if absent). The
+  // state is as before afterwards; the point field "safety_shear_strain"
+  // (scenes with /factor_of_safety) holds the mechanism.
+  SafetyFactor factor_of_safety();
+
   double total_mass() const;
   // Saturated runs: the mass of every species now (throws in dry runs).
   MassLedger mass_ledger() const;
@@ -265,6 +288,8 @@ class Simulation {
   std::unique_ptr<detail::GridProjection> grid_projection_;  // for writers of grid fields
   std::unique_ptr<detail::StepGuard> guard_;                 // stops a run that blew up
   std::unique_ptr<detail::QuasiStatic> quasi_static_;        // quasi-static runs
+  std::unique_ptr<detail::StrengthReduction> strength_reduction_;  // quasi-static runs, made when first asked
+  std::optional<FieldId> safety_shear_strain_;               // scenes with /factor_of_safety
   std::unique_ptr<detail::PointOrder> point_order_;          // sorts the points when they mixed
   SimulationClock clock_{0};
   StageTimes times_;

@@ -36,14 +36,18 @@ void Materials::add_fields(PointSet& points) {
   for (FieldId id = first; id < points.field_count(); ++id) state_fields_.push_back(id);
 }
 
-void Materials::tangent(Domain& d, double dt, std::vector<double>& stiffness) const {
+bool Materials::reduces_strength() const {
+  return std::any_of(phases_.begin(), phases_.end(), [](const MaterialPhase& m) { return m.phase().reduces_strength(); });
+}
+
+void Materials::tangent(Domain& d, double dt, std::vector<double>& stiffness, double strength_reduction) const {
   stiffness.resize(d.points.size() * 36);
   for (const BodyPoints& body : d.bodies) {
     const Phase& phase = phases_[body.material].phase();
     d.exec.for_chunks(body.range.size(), [&](int, std::size_t b, std::size_t e) {
       const PointRange range{body.range.begin + b, body.range.begin + e};
       const std::span<double> D(stiffness.data() + range.begin * 36, range.size() * 36);
-      if (phase.tangent(StressBatch{d.points, range, dt, {}}, D)) return;
+      if (phase.tangent(StressBatch{d.points, range, dt, {}, strength_reduction}, D)) return;
       const double M = phase.p_wave_modulus(), nu = 0.3;
       const double G = M * (1 - 2 * nu) / (2 * (1 - nu));
       for (std::size_t k = 0; k < range.size(); ++k) tensor::isotropic_stiffness(M - 4 * G / 3, G, D.data() + k * 36);
@@ -90,9 +94,10 @@ void Materials::impose_eigenstrain(Domain& d, double dt) const {
   for_each_batch(d, [&](const Phase& phase, const PointRange& range) { impose_eigenstrain(phase, d.points, range, dt); });
 }
 
-void Materials::update_stress_with_imposed_eigenstrain(Domain& d, double dt) const {
+void Materials::update_stress_with_imposed_eigenstrain(Domain& d, double dt, double strength_reduction) const {
   for_each_batch(d, [&](const Phase& phase, const PointRange& range) {
-    phase.update_stress(StressBatch{d.points, range, dt, imposed_eigenstrain(phase, d.points, range)});
+    phase.update_stress(
+        StressBatch{d.points, range, dt, imposed_eigenstrain(phase, d.points, range), strength_reduction});
   });
 }
 

@@ -31,8 +31,14 @@ class Materials {
   // state at the step's start (impose_eigenstrain), then handed to every
   // iteration's stress update (update_stress_with_imposed_eigenstrain).
   bool writes_eigenstrain() const { return eigenstrain_.has_value(); }
+  // The field of the step's eigenstrain increment (if some phase writes one).
+  std::optional<FieldId> eigenstrain_increment_field() const { return eigenstrain_increment_; }
   void impose_eigenstrain(Domain& domain, double dt) const;
-  void update_stress_with_imposed_eigenstrain(Domain& domain, double dt) const;
+  // `strength_reduction`: the factor F a strength reduction divides the
+  // phases' strengths by (StressBatch::strength_reduction; 1 in a run's steps).
+  void update_stress_with_imposed_eigenstrain(Domain& domain, double dt, double strength_reduction = 1.0) const;
+  // Whether some material's phase reduces its strength (Phase::reduces_strength).
+  bool reduces_strength() const;
 
   // Quasi-static runs. The fields the stress stage writes (the stress, each
   // phase's state, the eigenstrain): an iteration starts from their values
@@ -41,7 +47,7 @@ class Materials {
   // The tangent stiffness of every point, 36 per point (Phase::tangent), or
   // the isotropic fallback of modulus p_wave_modulus() and Poisson's ratio
   // 0.3 for a phase that gives none.
-  void tangent(Domain& domain, double dt, std::vector<double>& stiffness) const;
+  void tangent(Domain& domain, double dt, std::vector<double>& stiffness, double strength_reduction = 1.0) const;
 
  private:
   std::vector<MaterialPhase> phases_;

@@ -64,7 +64,7 @@ double QuasiStatic::evaluate(double dt) {
   const std::size_t nn = d_.grid.node_count();
   for (std::size_t k = 0; k < du_.size(); ++k) d_.nodes.velocity[k] = du_[k] / dt;
   d_.update_velocity_gradient(dt);
-  materials_.update_stress_with_imposed_eigenstrain(d_, dt);
+  materials_.update_stress_with_imposed_eigenstrain(d_, dt, reduction_.value_or(1.0));
 
   PointSet& pts = d_.points;
   const auto& c = pts.core();
@@ -173,6 +173,7 @@ double QuasiStatic::evaluate(double dt) {
 std::optional<int> QuasiStatic::solve(double time, double dt) {
   failure_.clear();
   int iterations = 0;
+  attempted_iterations_ = 0;
   // Phreatic scenes solve the step again while its seepage faces change
   // (settle_seepage_faces), from the same start, at most this many times.
   constexpr int max_seepage_rounds = 8;
@@ -185,16 +186,18 @@ std::optional<int> QuasiStatic::solve(double time, double dt) {
     // with it imposed (a phase's eigenstrain is a function of the state at
     // the step's start, not of the iterate).
     if (seepage_rounds_ == 1) {
-      if (materials_.writes_eigenstrain()) {
+      if (materials_.writes_eigenstrain() && !reduction_) {
         save_state(step_start_);
         materials_.impose_eigenstrain(d_, dt);
       }
       save_state(saved_);
     }
     if (!newton(dt, iterations)) break;
-    if (!phreatic_ || seepage_rounds_ == max_seepage_rounds || !settle_seepage_faces()) return iterations;
+    if (!phreatic_ || reduction_ || seepage_rounds_ == max_seepage_rounds || !settle_seepage_faces())
+      return iterations;
   }
-  if (materials_.writes_eigenstrain()) restore_state(step_start_);
+  if (materials_.writes_eigenstrain() && !reduction_) restore_state(step_start_);
+  attempted_iterations_ = iterations;
   return std::nullopt;
 }
 
@@ -233,8 +236,17 @@ bool QuasiStatic::newton(double dt, int& iterations) {
   bool last_step_is_round_off = false;
   restore_state(saved_);
   double norm = evaluate(dt);
+  // A strength reduction's solve beyond its limit does not diverge: its
+  // iterations cycle through the same few returns, the residual never lower.
+  // It counts as failed once that many iterations found no new lowest
+  // residual (one converging slowly finds one nearly every iteration).
+  constexpr int reduction_stall = 12;
+  double lowest = std::numeric_limits<double>::infinity();
+  int lowest_at = 0;
   for (int iteration = 0;; ++iteration) {
     if (!std::isfinite(norm)) break;
+    if (norm < 0.99 * lowest) lowest = norm, lowest_at = iteration;
+    if (reduction_ && iteration - lowest_at >= reduction_stall) break;
     // The first evaluation has the old pressures: at least one solve.
     if (iteration > 0 && norm <= control.newton_tolerance * force_scale_ &&
         (!phreatic_ || water_norm_ <= water_tolerance * water_scale_))
@@ -243,9 +255,9 @@ bool QuasiStatic::newton(double dt, int& iterations) {
     // body moved only by its constraints (a translation) has no forces to
     // compare the residual with.
     if (iteration > 1 && last_step_is_round_off) return true;
-    if (iteration == control.max_iterations) break;
+    if (iteration == (reduction_ ? reduction_iterations_ : control.max_iterations)) break;
     ++iterations;
-    materials_.tangent(d_, dt, tangent_);
+    materials_.tangent(d_, dt, tangent_, reduction_.value_or(1.0));
     assemble(dt);
     for (std::size_t e = 0; e < equations_; ++e) rhs[static_cast<Eigen::Index>(e)] = residual_[e];
     // After the attempt's first iteration the factors of an earlier one
@@ -257,7 +269,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
       reused = L.solve_reusing_factors(rhs, its);
       gmres_iterations_ += static_cast<std::size_t>(its);
     }
-    if (!reused && !L.distributed) factorise_or_throw();
+    if (!reused && !L.distributed && !factorise_or_throw()) break;
     if (!reused && L.distributed && equations_ > 0) ++factorisations_;  // PETSc sets its preconditioner up anew
     const Eigen::VectorXd delta = reused ? std::move(*reused) : L.solve(rhs);
     // Backtracking: far from equilibrium a full Newton step on a perfectly

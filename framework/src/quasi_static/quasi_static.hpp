@@ -95,6 +95,16 @@ class QuasiStatic {
   // increments; strain, volume, porosity, pore pressure and Darcy flux
   // follow (the nodal Darcy flux too, for the transport).
   void update_points(double dt);
+  // A strength reduction (run/factor_of_safety.hpp): while a factor F is
+  // set, solve() finds the equilibrium with every phase's strength divided
+  // by F, the pore pressures held at the points' (no pressure unknowns),
+  // without inertia and without the phases' eigenstrain (the caller zeroes
+  // the step's), a solve failing after `max_iterations`. nullopt: the run's
+  // own steps.
+  void reduce_strength(std::optional<double> factor, int max_iterations = 0) {
+    reduction_ = factor;
+    reduction_iterations_ = max_iterations;
+  }
   // What boundary condition `b` (one whose reaction the scene records) does
   // at the last converged equilibrium: the force its velocity constraints
   // exert on the soil, f_int - f_ext summed over the components it holds
@@ -109,6 +119,8 @@ class QuasiStatic {
   // points without stiffness at the last iteration (empty after a
   // converged solve).
   const std::string& failure() const { return failure_; }
+  // The iterations of the last solve that did not converge.
+  int attempted_iterations() const { return attempted_iterations_; }
   // Water levels (bc/water_level): below them a free surface holds the
   // water's pressure instead of zero. Their load on the skeleton comes
   // through apply_loads.
@@ -139,7 +151,8 @@ class QuasiStatic {
   bool newton(double dt, int& iterations);
   void prepare_blocks();  // the node pairs the matrix couples, after prepare
   void assemble(double dt);  // the matrix, from the tangents at the iterate
-  void factorise_or_throw();
+  // False (a strength reduction's singular system) or throws.
+  bool factorise_or_throw();
   void describe_failure();  // failure_, from the last iterate
   // Phreatic scenes: after a converged solve, closes the seepage-face nodes
   // water would enter through and opens the closed ones whose pressure rose
@@ -256,6 +269,9 @@ class QuasiStatic {
   std::size_t equations_ = 0, displacement_equations_ = 0;  // the displacements' come first
   std::string failure_;
   std::size_t factorisations_ = 0, gmres_iterations_ = 0;
+  std::optional<double> reduction_;  // reduce_strength()
+  int reduction_iterations_ = 0;
+  int attempted_iterations_ = 0;
 };
 
 }  // namespace suffuse::detail

@@ -331,10 +331,11 @@ void QuasiStatic::assemble(double dt) {
     for (Linear::Matrix::InnerIterator it(L.matrix, c); it; ++it) it.valueRef() *= L.scale[it.row()] * L.scale[it.col()];
 }
 
-void QuasiStatic::factorise_or_throw() {
+bool QuasiStatic::factorise_or_throw() {
   ++factorisations_;
-  if (!linear_->factorise())
-    throw Error(std::string("the quasi-static system is singular: ") + Linear::singular);
+  if (linear_->factorise()) return true;
+  if (reduction_) return false;  // a strength reduction's: no equilibrium at that factor
+  throw Error(std::string("the quasi-static system is singular: ") + Linear::singular);
 }
 
 }  // namespace suffuse::detail

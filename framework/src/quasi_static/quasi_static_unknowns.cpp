@@ -51,11 +51,14 @@ void QuasiStatic::prepare(double time, double dt) {
   std::fill(cell_count_.begin(), cell_count_.end(), 0.0);
   const auto& g = scene_.gravity;
   creep_.assign(nn * dim, 0.0);  // none until a point has no stiffness (assemble)
-  const bool inertia = scene_.quasi_static.inertia;
+  const bool inertia = scene_.quasi_static.inertia && !reduction_;
   const double* v = pts.data(c.velocity);
   if (inertia) {
     inertia_.assign(nn * dim, 0.0);
     inertia_target_.assign(nn * dim, 0.0);
+  } else {
+    inertia_.clear();  // (a strength reduction's solves in a run with inertia)
+    inertia_target_.clear();
   }
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const bool wet = n && n[p] > 0;
@@ -199,6 +202,12 @@ void QuasiStatic::prepare(double time, double dt) {
   for (std::size_t I = 0; I < nn; ++I)
     if (node_pore_[I] > 0 && !fixed[I]) p_dof_[I] = static_cast<std::int64_t>(equations_++);
   follow_inner_nodes();
+  if (reduction_) {  // the pressures held where they are: the points' projected, the surfaces' own
+    p_dof_.assign(nn, -1);
+    extrapolated_.clear();
+    equations_ = displacement_equations_;
+    return;
+  }
 
   // The rest of the pressure equations' right-hand side: the storage of the
   // old pressures and the flow gravity drives, -dt sum V k rho_L g . grad N.

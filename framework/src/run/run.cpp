@@ -18,6 +18,7 @@
 #include "suffuse/error.hpp"
 #include "suffuse/simulation.hpp"
 #include "suffuse/version.hpp"
+#include "suffuse/writer.hpp"
 
 namespace suffuse {
 
@@ -56,6 +57,37 @@ RunSummary Simulation::run(const RunOptions& options) {
   const std::filesystem::path& dir = options.output_dir;
 
   detail::RunOutputs outputs(scene_, writers_, dir, *domain_, species_.get(), *reactions_, *grid_projection_, times_);
+  // Factors of safety (/factor_of_safety): at the start, at multiples of
+  // the interval and at the end, each a row of <scene>.factor_of_safety.csv
+  // (complete after each row), evaluated before that time's frames so that
+  // they show its mechanism.
+  std::vector<std::pair<double, SafetyFactor>> factors;
+  std::ofstream safety_csv;
+  const std::optional<FactorOfSafetySpec>& safety = scene_.factor_of_safety;
+  auto next_safety = [&](double now) {
+    return safety && safety->interval
+               ? (std::floor((now + 1e-9 * *safety->interval) / *safety->interval) + 1) * *safety->interval
+               : std::numeric_limits<double>::infinity();
+  };
+  auto open_safety_csv = [&](std::optional<double> resume_time) {
+    if (!safety || dir.empty() || !domain_->comm.root()) return;
+    const std::filesystem::path file = dir / (scene_.name + ".factor_of_safety.csv");
+    const bool append = resume_time && keep_csv_rows_until(file, *resume_time);
+    std::filesystem::create_directories(dir);
+    safety_csv.open(file, append ? std::ios::app : std::ios::trunc);
+    if (!safety_csv) throw Error("cannot write " + file.string());
+    safety_csv.precision(10);
+    if (!append)
+      safety_csv << "time [s],factor_of_safety [-],failed_at [-],solves [-],newton_iterations [-]\n" << std::flush;
+  };
+  auto evaluate_safety = [&] {
+    const SafetyFactor f = factor_of_safety();
+    factors.emplace_back(clock_.time(), f);
+    if (!safety_csv.is_open()) return;
+    safety_csv << clock_.time() << ',' << f.factor << ',';
+    if (std::isfinite(f.failed_at)) safety_csv << f.failed_at;  // empty: every factor up to max_factor held
+    safety_csv << ',' << f.solves << ',' << f.newton_iterations << '\n' << std::flush;
+  };
   if (!options.restart.empty()) {
     const Restored restored = load_checkpoint(options.restart);
     // A finished run's checkpoint stands for its end, even when it holds the
@@ -65,9 +97,13 @@ RunSummary Simulation::run(const RunOptions& options) {
       throw Error("cannot restart from " + options.restart.string() + ": it is at t = " + std::to_string(at) +
                   " s, the scene ends at " + std::to_string(end) + " s; raise /time/end to extend the run");
     outputs.resume(clock_.time(), restored.writers);
+    open_safety_csv(clock_.time());
   } else {
+    open_safety_csv(std::nullopt);
+    if (safety) evaluate_safety();
     outputs.start(clock_.time(), clock_.steps());
   }
+  double safety_due = next_safety(clock_.time());
   if (!dir.empty() && (!writers_.empty() || species_ || !reactions_->empty()) && domain_->comm.root())
     write_run_info(dir / (scene_.name + ".run.json"));
 
@@ -114,6 +150,10 @@ RunSummary Simulation::run(const RunOptions& options) {
     if (end_saved_before && at_end && domain_->comm.root()) std::filesystem::rename(end_checkpoint, checkpoint);
     // Every process stops at the same step (a signal may reach them apart).
     const bool stopping = !at_end && domain_->comm.any(options.stop && options.stop->load());
+    if (safety && (now >= safety_due - 1e-9 * clock_.nominal_dt() || at_end)) {
+      evaluate_safety();
+      safety_due = next_safety(now);
+    }
     // An interrupted run ends like a finished one: a frame of every output and a checkpoint.
     outputs.after_step(now, clock_.steps(), at_end || stopping);
     if (!dir.empty() && !(end_saved_before && at_end) &&
@@ -137,7 +177,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.points = point_count();
   summary.simulated_time = clock_.time();
   summary.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const double stepping = summary.wall_seconds - times_[Stage::output];
+  const double stepping = summary.wall_seconds - times_[Stage::output] - times_[Stage::safety];
   summary.point_updates_per_second =
       stepping > 0 ? static_cast<double>(summary.steps) * static_cast<double>(summary.points) / stepping : 0.0;
   summary.stages = times_;
@@ -155,6 +195,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     summary.gmres_iterations = quasi_static_->gmres_iterations();
   }
   if (species_) summary.ledger = mass_ledger();
+  summary.factors_of_safety = std::move(factors);
   summary.interrupted = interrupted;
   summary.exchanged_values = domain_->exec.exchanged_values() - exchanged_before;
   return summary;

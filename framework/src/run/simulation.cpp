@@ -19,6 +19,7 @@
 #include "mixture/drainage.hpp"
 #include "mixture/standing_water.hpp"
 #include "quasi_static/quasi_static.hpp"
+#include "quasi_static/strength_reduction.hpp"
 #include "mpm/reactions.hpp"
 #include "mixture/saturated_mixture.hpp"
 #include "transport/species_transport.hpp"
@@ -31,7 +32,8 @@ namespace suffuse {
 const char* stage_name(Stage stage) {
   static const char* names[stage_count] = {"shape",     "p2g",   "grid",   "g2p",          "remap",
                                            "strain",    "pore_pressure",   "erosion", "permeability",
-                                           "stress",    "transport",       "check",   "output", "solve"};
+                                           "stress",    "transport",       "check",   "output", "solve",
+                                           "safety"};
   return names[static_cast<std::size_t>(stage)];
 }
 
@@ -77,6 +79,9 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
       materials_(std::make_unique<detail::Materials>(scene, registry)),
       reactions_(std::make_unique<detail::Reactions>(scene.reactions, scene.dim, scene.damping)) {
   const int dim = scene.dim;
+  if (scene.factor_of_safety && !materials_->reduces_strength())
+    throw Error("/factor_of_safety: no material's phase reduces its strength, so no factor of safety exists "
+                "(phase/mohr_coulomb does, and phase/suffosion around it)");
   for (const PluginNode& bc : scene.boundary_conditions) {
     bcs_.push_back(std::make_unique<detail::NamedCondition>(
         registry.create<BoundaryCondition>(bc.type, {bc.params, dim, bc.pointer}), bc));
@@ -95,6 +100,12 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
     momentum_ = dry_.get();
   }
   materials_->add_fields(domain_->points);
+  if (scene.factor_of_safety)
+    safety_shear_strain_ = domain_->points.add_field(
+        {"safety_shear_strain", FieldKind::Scalar, "-",
+         "the mechanism of the last factor of safety: the equivalent shear strain sqrt(2/3 e:e) the strength "
+         "reduction added up to the largest factor that held",
+         true});
   point_order_ = std::make_unique<detail::PointOrder>(scene.sort_points_at_spread);
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
@@ -494,6 +505,23 @@ void Simulation::step_quasi_static() {
     if (eroded > 0) next = std::min(next, dt * control.eroded_fraction_tolerance / eroded);
   }
   clock_.set_step(next);
+}
+
+SafetyFactor Simulation::factor_of_safety() {
+  if (!quasi_static_)
+    throw Error("factor_of_safety: a strength reduction solves equilibria: it needs /time/integration "
+                "\"quasi_static\"");
+  if (!materials_->reduces_strength())
+    throw Error("factor_of_safety: no material's phase reduces its strength (phase/mohr_coulomb does, and "
+                "phase/suffosion around it)");
+  timed(Stage::shape, [&] { locate_points(); });  // the points moved since the step's shape functions
+  if (!strength_reduction_)
+    strength_reduction_ = std::make_unique<detail::StrengthReduction>(
+        scene_.factor_of_safety.value_or(FactorOfSafetySpec{}), *domain_, *materials_, *quasi_static_,
+        safety_shear_strain_);
+  SafetyFactor result;
+  timed(Stage::safety, [&] { result = strength_reduction_->evaluate(clock_.time(), clock_.nominal_dt()); });
+  return result;
 }
 
 int Simulation::threads() const { return domain_->exec.threads(); }

@@ -41,7 +41,8 @@ std::string list(const std::vector<std::string>& names) {
 const std::vector<SceneSection>& scene_sections() {
   static const std::vector<SceneSection> sections = {
       top_level_section(), grid_section(),   shape_function_section(),      time_section(),   materials_section(),
-      liquids_section(),   bodies_section(), boundary_conditions_section(), outputs_section()};
+      liquids_section(),   bodies_section(), boundary_conditions_section(), outputs_section(),
+      factor_of_safety_section()};
   return sections;
 }
 

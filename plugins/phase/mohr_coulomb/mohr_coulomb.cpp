@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <suffuse/plugin.hpp>
 #include <suffuse/tensor.hpp>
 
@@ -261,8 +262,10 @@ class MohrCoulomb final : public suffuse::Phase {
         G_(E_ / (2 * (1 + nu_))),
         lambda_(E_ * nu_ / ((1 + nu_) * (1 - 2 * nu_))),
         cohesion_(args.params.number("cohesion")),
-        return_(G_, lambda_, args.params.number("friction_angle") * degree, args.params.number("cohesion"),
-                args.params.number("dilatancy_angle") * degree, tension_of(args.params)) {}
+        phi_(args.params.number("friction_angle") * degree),
+        psi_(args.params.number("dilatancy_angle") * degree),
+        tensile_strength_(args.params.maybe_number("tensile_strength")),
+        return_(return_for(1.0)) {}
 
   double density() const override { return rho_; }
   double p_wave_modulus() const override { return lambda_ + 2 * G_; }
@@ -283,6 +286,8 @@ class MohrCoulomb final : public suffuse::Phase {
   // symmetric for psi < phi; at the apex it is zero (the core then holds the
   // point's nodes by its creep term).
   bool tangent(const suffuse::StressBatch& batch, std::span<double> stiffness) const override {
+    const MohrCoulombReturn reduced = return_for(batch.strength_reduction);
+    const MohrCoulombReturn& ret = batch.strength_reduction == 1.0 ? return_ : reduced;
     const suffuse::PointSet& pts = batch.points;
     const double* yielding = pts.data(yielding_);
     const double* trial = pts.data(trial_stress_);
@@ -291,7 +296,7 @@ class MohrCoulomb final : public suffuse::Phase {
       if (yielding[p] == 0)
         suffuse::tensor::isotropic_stiffness(lambda_ + 2 * G_ / 3, G_, D);
       else
-        plastic_tangent(suffuse::tensor::to_matrix(trial + p * 6), D);
+        plastic_tangent(ret, suffuse::tensor::to_matrix(trial + p * 6), D);
     }
     return true;
   }
@@ -301,17 +306,27 @@ class MohrCoulomb final : public suffuse::Phase {
     return true;
   }
   void update_stress(const suffuse::StressBatch& batch) const override {
+    const MohrCoulombReturn reduced = return_for(batch.strength_reduction);
+    const MohrCoulombReturn& ret = batch.strength_reduction == 1.0 ? return_ : reduced;
     if (batch.points.dim() == 2)
-      update<2>(batch);
+      update<2>(batch, ret);
     else
-      update<3>(batch);
+      update<3>(batch, ret);
   }
+  bool reduces_strength() const override { return true; }
 
  private:
-  static double tension_of(const suffuse::Parameters& p) {
-    if (p.has("tensile_strength")) return p.number("tensile_strength");
-    const double phi = p.number("friction_angle") * degree;
-    return phi > 0 ? p.number("cohesion") * std::cos(phi) / std::sin(phi) : std::numeric_limits<double>::infinity();
+  // The return of the strength divided by F (a strength reduction; F = 1:
+  // the material's own): c / F, tan(phi) / F and tan(psi) / F (the
+  // dilatancy reduced alike, so it stays at most the friction), the tension
+  // cut-off at most the reduced apex c cot(phi) / F.
+  MohrCoulombReturn return_for(double F) const {
+    const bool own = F == 1.0;  // exactly the given angles (atan(tan(x)) may differ from x in its last bit)
+    const double phi = own ? phi_ : std::atan(std::tan(phi_) / F), psi = own ? psi_ : std::atan(std::tan(psi_) / F);
+    const double c = cohesion_ / F;
+    double tension = phi > 0 ? c * std::cos(phi) / std::sin(phi) : std::numeric_limits<double>::infinity();
+    if (tensile_strength_) tension = std::min(tension, *tensile_strength_);
+    return MohrCoulombReturn(G_, lambda_, phi, c, psi, tension);
   }
 
   // The principal stresses of s, sorted s1 >= s2 >= s3, and their axes (column a for s_a).
@@ -398,7 +413,7 @@ class MohrCoulomb final : public suffuse::Phase {
   }
 
   template <int D>
-  void update(const suffuse::StressBatch& batch) const {
+  void update(const suffuse::StressBatch& batch, const MohrCoulombReturn& ret) const {
     namespace t = suffuse::tensor;
     suffuse::PointSet& pts = batch.points;
     double* stress = pts.data(pts.core().stress);
@@ -411,7 +426,7 @@ class MohrCoulomb final : public suffuse::Phase {
       double* s6 = stress + p * 6;
       const t::Matrix trial = t::jaumann_elastic_increment(t::to_matrix(s6), d, w, G_, lambda_);
       const Vec3 values = principal_values(trial);
-      if (return_.admissible(values, tolerance_of(values))) {
+      if (ret.admissible(values, tolerance_of(values))) {
         t::store(trial, s6);
         yielding[p] = 0;
         continue;
@@ -419,7 +434,7 @@ class MohrCoulomb final : public suffuse::Phase {
       const PrincipalAxes pa = principal_axes(trial);
       const Vec3& principal = pa.values;
       t::store(trial, trial_stress + p * 6);
-      const Vec3 s = return_(principal, pa.tolerance).stress;
+      const Vec3 s = ret(principal, pa.tolerance).stress;
       // Back to the axes of the trial stress; the plastic strain is D^-1 of the stress removed.
       const Vec3 removed = {principal[0] - s[0], principal[1] - s[1], principal[2] - s[2]};
       const double tr = removed[0] + removed[1] + removed[2];
@@ -448,10 +463,10 @@ class MohrCoulomb final : public suffuse::Phase {
   // ab turns the axes, and the stress follows with the modulus
   // G (s_a - s_b) / (s_a^trial - s_b^trial) (its limit where the trial's
   // s_a = s_b).
-  void plastic_tangent(const suffuse::tensor::Matrix& trial, double* D) const {
+  void plastic_tangent(const MohrCoulombReturn& ret, const suffuse::tensor::Matrix& trial, double* D) const {
     const PrincipalAxes pa = principal_axes(trial);
-    const auto r = return_(pa.values, pa.tolerance);
-    const std::array<double, 9> Dp = return_.principal_tangent(r);
+    const auto r = ret(pa.values, pa.tolerance);
+    const std::array<double, 9> Dp = ret.principal_tangent(r);
     double shear[3][3] = {};
     for (int a = 0; a < 3; ++a)
       for (int b = a + 1; b < 3; ++b) {
@@ -478,7 +493,8 @@ class MohrCoulomb final : public suffuse::Phase {
     }
   }
 
-  double rho_, nu_, E_, G_, lambda_, cohesion_;
+  double rho_, nu_, E_, G_, lambda_, cohesion_, phi_, psi_;
+  std::optional<double> tensile_strength_;
   MohrCoulombReturn return_;
   suffuse::FieldId plastic_strain_ = 0, yielding_ = 0, trial_stress_ = 0;
 };

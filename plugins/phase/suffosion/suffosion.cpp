@@ -230,6 +230,9 @@ class Suffosion final : public suffuse::Phase {
   bool tangent(const suffuse::StressBatch& b, std::span<double> stiffness) const override {
     return base_->tangent(b, stiffness);
   }
+  // The base model's strength is the strength a strength reduction divides
+  // (the erosion-induced strain adds none).
+  bool reduces_strength() const override { return base_->reduces_strength(); }
   void update_stress(const suffuse::StressBatch& b) const override {
     base_->update_stress(b);
     if (!e_) return;
