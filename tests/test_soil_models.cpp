@@ -597,27 +597,25 @@ TEST(MohrCoulomb, TangentIsTheDerivativeOfTheReturn) {
 }
 
 // A strength reduction by F (StressBatch::strength_reduction, the factor of
-// safety's) is the material with c / F, tan(phi) / F and tan(psi) / F, its
-// tension cut-off at most the reduced apex: every return and tangent equals
-// that material's to round-off, on the plane, the edges, the apex and the
-// cut-off.
+// safety's) is the material with c / F, tan(phi) / F, tan(psi) / F and a
+// tensile strength t / F (the cone's apex, c cot(phi), does not move): every
+// return and tangent equals that material's to round-off, on the plane, the
+// edges, the apex and the cut-off.
 TEST(MohrCoulomb, StrengthReductionIsTheReducedMaterial) {
   const double F = 1.7;
   auto reduced_angle = [&](double degrees) { return std::atan(std::tan(degrees * pi / 180) / F) * 180 / pi; };
-  auto with_cut_off = sand;
-  with_cut_off["tensile_strength"] = 6e3;  // above the reduced apex c cot(phi) / F = 5.7 kPa: the apex's
+  auto near_apex = sand;
+  near_apex["tensile_strength"] = 8e3;  // the apex c cot(phi) is 8.66 kPa
   auto low_cut_off = sand;
-  low_cut_off["tensile_strength"] = 2e3;  // below it: kept
-  for (const nlohmann::json& material : {sand, with_cut_off, low_cut_off}) {
+  low_cut_off["tensile_strength"] = 2e3;
+  for (const nlohmann::json& material : {sand, near_apex, low_cut_off}) {
     OnePoint reducing("phase/mohr_coulomb", material);
     auto weaker = material;
     weaker["cohesion"] = material["cohesion"].get<double>() / F;
     weaker["friction_angle"] = reduced_angle(material["friction_angle"].get<double>());
     weaker["dilatancy_angle"] = reduced_angle(material["dilatancy_angle"].get<double>());
-    const double phi = weaker["friction_angle"].get<double>() * pi / 180;
-    const double apex = weaker["cohesion"].get<double>() * std::cos(phi) / std::sin(phi);
     if (material.contains("tensile_strength"))
-      weaker["tensile_strength"] = std::min(material["tensile_strength"].get<double>(), apex);
+      weaker["tensile_strength"] = material["tensile_strength"].get<double>() / F;
     OnePoint reduced("phase/mohr_coulomb", weaker);
     ASSERT_TRUE(reducing.phase->reduces_strength());
     std::mt19937 rng(5);

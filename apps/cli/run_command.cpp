@@ -237,8 +237,8 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
         std::cout << "  factor of safety (strength reduction, " << s.factors_of_safety.size() << " evaluations): "
                   << std::setprecision(4) << lowest->second.factor << " at t = " << std::setprecision(6)
                   << lowest->first << " s, the lowest; " << std::setprecision(4)
-                  << s.factors_of_safety.back().second.factor << " at the end (" << scene.name
-                  << ".factor_of_safety.csv)\n";
+                  << s.factors_of_safety.back().second.factor << " at t = " << std::setprecision(6)
+                  << s.factors_of_safety.back().first << " s, the last (" << scene.name << ".factor_of_safety.csv)\n";
       }
       if (s.creep_held_most > 0)
         std::cout << "  creep: material points without stiffness in some direction (separated, or at a yield "

@@ -271,7 +271,13 @@ bool QuasiStatic::newton(double dt, int& iterations) {
     }
     if (!reused && !L.distributed && !factorise_or_throw()) break;
     if (!reused && L.distributed && equations_ > 0) ++factorisations_;  // PETSc sets its preconditioner up anew
-    const Eigen::VectorXd delta = reused ? std::move(*reused) : L.solve(rhs);
+    Eigen::VectorXd delta;
+    try {
+      delta = reused ? std::move(*reused) : L.solve(rhs);
+    } catch (const Error&) {  // PETSc's singular system (the same on every process)
+      if (!reduction_) throw;
+      break;  // a strength reduction's: no equilibrium at that factor
+    }
     // Backtracking: far from equilibrium a full Newton step on a perfectly
     // plastic skeleton can overshoot onto the wrong side of many returns;
     // halve it until the residual falls (Armijo), at most six times.

@@ -152,8 +152,8 @@ void QuasiStatic::prepare(double time, double dt) {
       }
       if (std::isnan(probe_.velocity[k]))
         u_dof_[k] = static_cast<std::int64_t>(equations_++);
-      else
-        du_[k] = probe_.velocity[k] * dt;
+      else  // (a strength reduction's solves hold them where they are: the loads of one time)
+        du_[k] = reduction_ ? 0.0 : probe_.velocity[k] * dt;
     }
 
   tail_points_.clear();

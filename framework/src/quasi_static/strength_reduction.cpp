@@ -46,6 +46,17 @@ bool StrengthReduction::holds(double F, double time, double dt, SafetyFactor& re
 SafetyFactor StrengthReduction::evaluate(double time, double dt) {
   SafetyFactor result;
   save_points();
+  // Whatever a solve throws (a phase's error, PETSc's), the run is left as
+  // it was found: its strengths, its pressure unknowns, its points.
+  struct PutBack {
+    StrengthReduction& reduction;
+    bool armed = true;
+    ~PutBack() {
+      if (!armed) return;
+      reduction.solver_.reduce_strength(std::nullopt);
+      reduction.restore_points();
+    }
+  } put_back{*this};
   PointSet& pts = d_.points;
   // No erosion in the solves: the step's eigenstrain increment is not imposed again.
   if (const auto e = materials_.eigenstrain_increment_field()) std::fill_n(pts.data(*e), pts.size() * 6, 0.0);
@@ -75,6 +86,7 @@ SafetyFactor StrengthReduction::evaluate(double time, double dt) {
         hi = F;
     }
   }
+  put_back.armed = false;
   solver_.reduce_strength(std::nullopt);
   result.factor = lo;
   result.failed_at = hi;

@@ -318,14 +318,18 @@ class MohrCoulomb final : public suffuse::Phase {
  private:
   // The return of the strength divided by F (a strength reduction; F = 1:
   // the material's own): c / F, tan(phi) / F and tan(psi) / F (the
-  // dilatancy reduced alike, so it stays at most the friction), the tension
-  // cut-off at most the reduced apex c cot(phi) / F.
+  // dilatancy reduced alike, so it stays at most the friction), a tensile
+  // strength t / F. The cone's apex, (c / F) / tan(phi_F) = c cot(phi),
+  // does not move, so t / F stays below it.
   MohrCoulombReturn return_for(double F) const {
     const bool own = F == 1.0;  // exactly the given angles (atan(tan(x)) may differ from x in its last bit)
     const double phi = own ? phi_ : std::atan(std::tan(phi_) / F), psi = own ? psi_ : std::atan(std::tan(psi_) / F);
     const double c = cohesion_ / F;
-    double tension = phi > 0 ? c * std::cos(phi) / std::sin(phi) : std::numeric_limits<double>::infinity();
-    if (tensile_strength_) tension = std::min(tension, *tensile_strength_);
+    double tension = std::numeric_limits<double>::infinity();  // Tresca without a cut-off is refused
+    if (tensile_strength_)
+      tension = *tensile_strength_ / F;
+    else if (phi > 0)
+      tension = c * std::cos(phi) / std::sin(phi);
     return MohrCoulombReturn(G_, lambda_, phi, c, psi, tension);
   }
 
