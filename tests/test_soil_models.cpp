@@ -657,6 +657,52 @@ TEST(MohrCoulomb, StrengthReductionIsTheReducedMaterial) {
   }
 }
 
+// A friction from the state (state_friction_slope; docs/soil-models.md):
+// a point's update is that of the Mohr-Coulomb material whose friction is
+// the one its state at the step's start gives, sin(phi) = 3 M / (6 + M),
+// M = M_cs (1 - k psi); a looser state yields at a lower stress; and a
+// strength reduction by F divides the tangent of that friction.
+TEST(MohrCoulomb, StateFrictionIsTheMaterialOfItsState) {
+  const double phi_cs = 30, k = 2.5, e_gamma = 0.8, lambda = 0.04, p0 = 80e3;
+  std::vector<double> deviator;  // q after the step, F = 1: the dense state's, then the loose one's
+  for (const double e0 : {0.55, 0.75}) {
+    for (const double F : {1.0, 1.4}) {
+      auto material = sand;
+      material["friction_angle"] = phi_cs;
+      material["cohesion"] = 0.0;
+      material["dilatancy_angle"] = 0.0;
+      material["state_friction_slope"] = k;
+      material["initial_void_ratio"] = e0;
+      material["critical_void_ratio"] = e_gamma;
+      material["critical_state_slope"] = lambda;
+      OnePoint state("phase/mohr_coulomb", material);
+      const double psi = e0 - (e_gamma - lambda * std::log(p0 / 1e3));
+      const double s_cs = std::sin(phi_cs * pi / 180), M = 6 * s_cs / (3 - s_cs) * (1 - k * psi);
+      const double phi = std::asin(3 * M / (6 + M));
+      auto fixed = sand;
+      fixed["friction_angle"] = std::atan(std::tan(phi) / F) * 180 / pi;
+      fixed["cohesion"] = 0.0;
+      fixed["dilatancy_angle"] = 0.0;
+      OnePoint plain("phase/mohr_coulomb", fixed);
+      const std::array<double, 6> start = {-p0, -p0, -p0, 0, 0, 0};
+      for (OnePoint* pt : {&state, &plain}) {
+        std::copy(start.begin(), start.end(), pt->stress());
+        double* L = pt->points.data(pt->points.core().velocity_gradient);
+        L[0] = L[8] = 5e-3, L[4] = -1e-2;  // axial compression, the sides out: far past yield
+      }
+      state.points.data(state.points.id("void_ratio"))[0] = e0;  // (OnePoint does not initialise its phase)
+      state.phase->update_stress(suffuse::StressBatch{state.points, {0, 1}, 1.0, {}, F});
+      plain.phase->update_stress(suffuse::StressBatch{plain.points, {0, 1}, 1.0, {}});
+      ASSERT_EQ(state.points.data(state.points.id("yielding"))[0], 1.0);
+      for (int c = 0; c < 6; ++c)
+        EXPECT_NEAR(state.stress()[c], plain.stress()[c], 1e-9 * p0) << "e0 " << e0 << ", F " << F << ", " << c;
+      EXPECT_NEAR(state.points.data(state.points.id("friction_angle"))[0], phi * 180 / pi, 1e-9);
+      if (F == 1.0) deviator.push_back(suffuse::tensor::deviatoric_stress(state.stress()));
+    }
+  }
+  EXPECT_LT(deviator[1], 0.8 * deviator[0]) << "the looser state yields at a lower stress";
+}
+
 // Phase::elastic_stiffness after a plastic step is the stiffness the
 // stress follows when it unloads (what phase/suffosion's substeps relax a
 // point with), not the plastic tangent: from returned states on the plane,

@@ -611,3 +611,54 @@ TEST(Suffosion, SubstepsBelowTheOnsetDeformNothing) {
 }
 
 }  // namespace
+
+// Strength that follows erosion (docs/soil-models.md, A friction from the
+// state): Mohr-Coulomb with its friction from the state parameter (Wood,
+// Belkheir and Liu 1994), under phase/suffosion. Eroding 10% of the solid
+// at p' = 100 kPa loosens the dense sample (e from 0.55 to 0.61: the fines
+// lost outweigh the erosion-induced compaction), so psi rises from -0.06 to
+// about 0: in drained triaxial compression the eroded sample carries less
+// than the intact one, and each carries at failure the stress ratio its
+// state gives, q/p' = M(psi) = M_cs (1 - k psi), sin(phi) = 3 M / (6 + M).
+TEST(Suffosion, ErodedSampleIsWeakerThroughItsStateParameter) {
+  const double phi_cs = 32, k = 3, e_gamma = 0.75, lambda = 0.03, p_ref = 1e3;
+  const nlohmann::json base = {{"type", "phase/mohr_coulomb"},     {"density", 2650.0},
+                               {"youngs_modulus", 5e7},            {"poisson_ratio", 0.3},
+                               {"friction_angle", phi_cs},         {"state_friction_slope", k},
+                               {"initial_void_ratio", 0.55},       {"critical_void_ratio", e_gamma},
+                               {"critical_state_slope", lambda},   {"reference_pressure", p_ref}};
+  const nlohmann::json shear = {{"type", "drained_triaxial"}, {"strain", 0.05}, {"increments", 500}};
+  auto run = [&](bool eroded) {
+    nlohmann::json path = nlohmann::json::array();
+    if (eroded)
+      path.push_back({{"type", "stress_controlled"}, {"inputs", {{"eroded_fraction", 0.1}}}, {"increments", 1000}});
+    path.push_back(shear);
+    const nlohmann::json j = {{"material", {{"type", "phase/suffosion"}, {"base", base}}},
+                              {"initial_pressure", 100e3},
+                              {"path", path}};
+    return parse_csv(suffuse::test::element_csv(j));
+  };
+  const Rows intact = run(false), eroded = run(true);
+  const std::size_t last_intact = intact.rows.size() - 1, last_eroded = eroded.rows.size() - 1;
+  // The loosening: the void ratio before the shear.
+  EXPECT_NEAR(intact.at(0, "void_ratio"), 0.55, 1e-12);
+  const double e_eroded = eroded.at(1000, "void_ratio");
+  EXPECT_NEAR(e_eroded, 1.55 * std::exp(-eroded.at(1000, "eps_v")) / 0.9 - 1, 1e-9);
+  EXPECT_GT(e_eroded, 0.6);
+  // Weaker: the stress ratio at failure.
+  const double ratio_intact = intact.at(last_intact, "q") / intact.at(last_intact, "p");
+  const double ratio_eroded = eroded.at(last_eroded, "q") / eroded.at(last_eroded, "p");
+  EXPECT_LT(ratio_eroded, 0.9 * ratio_intact);
+  RecordProperty("failure_ratio_intact", std::to_string(ratio_intact));
+  RecordProperty("failure_ratio_eroded", std::to_string(ratio_eroded));
+  // Each at the closed form of its state at the start of its last increment.
+  const double sin_cs = std::sin(phi_cs * std::numbers::pi / 180), M_cs = 6 * sin_cs / (3 - sin_cs);
+  for (const Rows* r : {&intact, &eroded}) {
+    const std::size_t n = r->rows.size() - 1;
+    const double psi = r->at(n - 1, "void_ratio") - (e_gamma - lambda * std::log(r->at(n - 1, "p") / p_ref));
+    const double M = M_cs * (1 - k * psi);
+    EXPECT_NEAR(r->at(n, "q") / r->at(n, "p"), M, 1e-6 * M);
+    EXPECT_NEAR(std::sin(r->at(n, "friction_angle") * std::numbers::pi / 180), 3 * M / (6 + M), 1e-9);
+    EXPECT_NEAR(r->at(n - 1, "state_parameter"), psi, 1e-9);
+  }
+}

@@ -11,7 +11,10 @@
 // and the plastic potential g the same with psi for phi. The apex, where
 // every edge meets, is the isotropic tension c cot(phi). With a tension
 // cut-off s_i <= t the return is an active set of the cone's planes and the
-// cut-off's (with_cut_off).
+// cut-off's (with_cut_off; mohr_coulomb_return.hpp). With
+// state_friction_slope the friction follows the void ratio through the
+// state parameter (state_friction.hpp), each point's from its state at the
+// step's start. A strength reduction divides c, tan(phi), tan(psi) and t.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
@@ -21,199 +24,13 @@
 #include <suffuse/plugin.hpp>
 #include <suffuse/tensor.hpp>
 
+#include "mohr_coulomb_return.hpp"
+#include "state_friction.hpp"
+
 namespace {
 
-using Vec3 = std::array<double, 3>;
-
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-// The return mapping in principal stresses, for stresses sorted s1 >= s2 >= s3.
-// Every surface it returns to is a plane in principal stress space, so the
-// return is a linear map of the trial stress for a given active set, and its
-// consistent tangent follows from that set alone (tangent()).
-class MohrCoulombReturn {
- public:
-  // The planes a return can end on: the cone's plane, its neighbours across
-  // the extension (s2 = s3) and compression (s1 = s2) edges, and the three
-  // planes of the tension cut-off s_i <= t.
-  enum SurfaceId { plane, extension_edge, compression_edge, cut_off_1, cut_off_2, cut_off_3, surface_count };
-  struct Returned {
-    Vec3 stress;
-    int active = 0;  // how many planes it ended on (0: the trial was admissible)
-    int ids[3] = {};
-  };
-
-  MohrCoulombReturn(double G, double lambda, double phi, double cohesion, double psi, double tension)
-      : G_(G), lambda_(lambda), sin_phi_(std::sin(phi)), k_(2 * cohesion * std::cos(phi)), tension_(tension) {
-    const double sp = sin_phi_, sq = std::sin(psi);
-    surfaces_[plane] = {{1 + sp, 0, -(1 - sp)}, {1 + sq, 0, -(1 - sq)}, k_};
-    surfaces_[extension_edge] = {{1 + sp, -(1 - sp), 0}, {1 + sq, -(1 - sq), 0}, k_};    // beyond s2 = s3
-    surfaces_[compression_edge] = {{0, 1 + sp, -(1 - sp)}, {0, 1 + sq, -(1 - sq)}, k_};  // beyond s1 = s2
-    for (int i = 0; i < 3; ++i) {
-      Vec3 e{0, 0, 0};
-      e[i] = 1;
-      surfaces_[cut_off_1 + i] = {e, e, tension};
-    }
-    apex_ = sp > 0 ? k_ / (2 * sp) : std::numeric_limits<double>::infinity();
-  }
-
-  double yield(const Vec3& s) const { return dot(surfaces_[plane].a, s) - k_; }
-  bool admissible(const Vec3& s, double tol) const { return yield(s) <= tol && s[0] <= tension_ + tol; }
-
-  // The stress on the yield surface the trial stress returns to, and the
-  // planes it ended on.
-  Returned operator()(const Vec3& trial, double tol) const {
-    if (admissible(trial, tol)) return {trial, 0, {}};
-    if (yield(trial) > tol) {
-      const Returned r = mohr_coulomb(trial, tol);
-      if (r.stress[0] <= tension_ + tol) return r;  // the cone alone
-    }
-    return with_cut_off(trial, tol);
-  }
-
-  // d s / d e_trial, the principal stresses' derivatives by the principal
-  // (trial) strains, 3x3 row-major, for the return r: the elastic stiffness
-  // projected off the active planes, (I - D B A^-1 A') D with B the plastic
-  // potentials' gradients, A the yield functions' and A_ij = a_i . D b_j.
-  // Three active planes fix all three principal stresses: zero.
-  std::array<double, 9> principal_tangent(const Returned& r) const {
-    std::array<double, 9> E{};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) E[i * 3 + j] = lambda_ + (i == j ? 2 * G_ : 0.0);
-    if (r.active == 0) return E;
-    if (r.active == 3) return {};
-    const int n = r.active;
-    Vec3 Db[2];
-    double A[3][3] = {};
-    for (int j = 0; j < n; ++j) Db[j] = stiffness(surfaces_[r.ids[j]].b);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) A[i][j] = dot(surfaces_[r.ids[i]].a, Db[j]);
-    double inv[2][2];
-    if (n == 1) {
-      inv[0][0] = 1 / A[0][0];
-    } else {
-      const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
-      inv[0][0] = A[1][1] / det, inv[0][1] = -A[0][1] / det, inv[1][0] = -A[1][0] / det, inv[1][1] = A[0][0] / det;
-    }
-    // P = I - sum_ij Db_i inv_ij a_j', then P E.
-    double P[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j)
-        for (int row = 0; row < 3; ++row)
-          for (int col = 0; col < 3; ++col) P[row][col] -= Db[i][row] * inv[i][j] * surfaces_[r.ids[j]].a[col];
-    std::array<double, 9> D{};
-    for (int row = 0; row < 3; ++row)
-      for (int col = 0; col < 3; ++col)
-        for (int k = 0; k < 3; ++k) D[row * 3 + col] += P[row][k] * E[k * 3 + col];
-    return D;
-  }
-
- private:
-  struct Surface {
-    Vec3 a, b;     // gradients of the yield function and of the plastic potential
-    double limit;  // a . s <= limit
-  };
-
-  Vec3 stiffness(const Vec3& v) const {  // D v, the isotropic elastic stiffness in principal axes
-    const double tr = lambda_ * (v[0] + v[1] + v[2]);
-    return {2 * G_ * v[0] + tr, 2 * G_ * v[1] + tr, 2 * G_ * v[2] + tr};
-  }
-
-  Returned mohr_coulomb(const Vec3& trial, double tol) const {
-    // 1. The plane: one multiplier.
-    const Vec3 Db = stiffness(surfaces_[plane].b);
-    const double dl = yield(trial) / dot(surfaces_[plane].a, Db);
-    const Vec3 s = {trial[0] - dl * Db[0], trial[1] - dl * Db[1], trial[2] - dl * Db[2]};
-    if (s[0] >= s[1] - tol && s[1] >= s[2] - tol) return {s, 1, {plane}};
-    // 2. An edge: the plane and its neighbour across the violated ordering.
-    const SurfaceId other = s[0] < s[1] ? compression_edge : extension_edge;
-    Vec3 edge;
-    if (on_edge(trial, surfaces_[other], edge, tol)) return {edge, 2, {plane, other}};
-    // 3. The apex (none for phi = 0: the edges of Tresca never meet).
-    if (std::isfinite(apex_)) return {{apex_, apex_, apex_}, 3, {plane, extension_edge, compression_edge}};
-    return {edge, 2, {plane, other}};
-  }
-
-  // Two active surfaces: f_i(trial - D (dl_1 b_1 + dl_2 b_2)) = 0, both
-  // multipliers non-negative and the result still ordered.
-  bool on_edge(const Vec3& trial, const Surface& other, Vec3& out, double tol) const {
-    const Surface& main = surfaces_[plane];
-    const Vec3 D1 = stiffness(main.b), D2 = stiffness(other.b);
-    const double a11 = dot(main.a, D1), a12 = dot(main.a, D2), a21 = dot(other.a, D1), a22 = dot(other.a, D2);
-    const double f1 = dot(main.a, trial) - k_, f2 = dot(other.a, trial) - k_;
-    const double det = a11 * a22 - a12 * a21;
-    const double l1 = (f1 * a22 - f2 * a12) / det, l2 = (a11 * f2 - a21 * f1) / det;
-    for (int i = 0; i < 3; ++i) out[i] = trial[i] - l1 * D1[i] - l2 * D2[i];
-    return l1 >= 0 && l2 >= 0 && out[0] >= out[1] - tol && out[1] >= out[2] - tol;
-  }
-
-  // With the tension cut-off (Rankine planes s_i <= t, associated): the
-  // active set among the cone's three planes (the main one and its two
-  // neighbours across the edges) and the three Rankine planes, by trying the
-  // sets of one to three surfaces in turn and keeping the first that meets
-  // the Kuhn-Tucker conditions (multipliers >= 0, every surface satisfied,
-  // the order kept). At most 41 small linear solves, only for the points
-  // the cut-off reaches.
-  Returned with_cut_off(const Vec3& trial, double tol) const {
-    const double t = tension_;
-    for (int size = 1; size <= 3; ++size) {
-      for (int mask = 1; mask < (1 << surface_count); ++mask) {
-        if (__builtin_popcount(mask) != size) continue;
-        int ids[3], n = 0;
-        for (int i = 0; i < surface_count; ++i)
-          if (mask & (1 << i)) ids[n++] = i;
-        // Solve sum_j (a_i . D b_j) dl_j = f_i(trial) for the active i.
-        double A[3][3] = {}, rhs[3] = {}, dl[3] = {};
-        Vec3 Db[3];
-        for (int j = 0; j < n; ++j) Db[j] = stiffness(surfaces_[ids[j]].b);
-        for (int i = 0; i < n; ++i) {
-          rhs[i] = dot(surfaces_[ids[i]].a, trial) - surfaces_[ids[i]].limit;
-          for (int j = 0; j < n; ++j) A[i][j] = dot(surfaces_[ids[i]].a, Db[j]);
-        }
-        if (!solve(n, A, rhs, dl)) continue;
-        bool ok = true;
-        for (int j = 0; j < n; ++j) ok = ok && dl[j] >= 0;
-        if (!ok) continue;
-        Vec3 s = trial;
-        for (int j = 0; j < n; ++j)
-          for (int c = 0; c < 3; ++c) s[c] -= dl[j] * Db[j][c];
-        ok = s[0] >= s[1] - tol && s[1] >= s[2] - tol && yield(s) <= tol && s[0] <= t + tol;
-        if (ok) return {s, n, {ids[0], n > 1 ? ids[1] : 0, n > 2 ? ids[2] : 0}};
-      }
-    }
-    // Not reached for psi <= phi; the most tensile admissible state.
-    return {{t, t, t}, 3, {cut_off_1, cut_off_2, cut_off_3}};
-  }
-
-  // Gaussian elimination with partial pivoting, n <= 3; false if singular.
-  static bool solve(int n, double A[3][3], double b[3], double x[3]) {
-    for (int c = 0; c < n; ++c) {
-      int pivot = c;
-      for (int r = c + 1; r < n; ++r)
-        if (std::abs(A[r][c]) > std::abs(A[pivot][c])) pivot = r;
-      if (std::abs(A[pivot][c]) < 1e-300) return false;
-      std::swap(A[c], A[pivot]);
-      std::swap(b[c], b[pivot]);
-      for (int r = c + 1; r < n; ++r) {
-        const double f = A[r][c] / A[c][c];
-        for (int k = c; k < n; ++k) A[r][k] -= f * A[c][k];
-        b[r] -= f * b[c];
-      }
-    }
-    for (int r = n - 1; r >= 0; --r) {
-      double v = b[r];
-      for (int k = r + 1; k < n; ++k) v -= A[r][k] * x[k];
-      x[r] = v / A[r][r];
-    }
-    // A nearly singular pair (two parallel planes) gives huge multipliers: not this set.
-    for (int r = 0; r < n; ++r)
-      if (!std::isfinite(x[r])) return false;
-    return true;
-  }
-
-  double G_, lambda_, sin_phi_, k_, tension_, apex_;
-  Surface surfaces_[surface_count];
-};
+using suffuse_mohr_coulomb::MohrCoulombReturn;
+using suffuse_mohr_coulomb::Vec3;
 
 constexpr double degree = 3.14159265358979323846 / 180;
 
@@ -231,6 +48,20 @@ class MohrCoulomb final : public suffuse::Phase {
     s.number("tensile_strength").with_unit("Pa").at_least(0).may_be_absent().doc(
         "Tension cut-off: no principal (effective) stress above it. Absent: the apex of the cone, c cot(phi); "
         "required for phi = 0");
+    s.number("state_friction_slope").with_unit("-").at_least(0).may_be_absent().doc(
+        "k: the friction follows the state parameter psi = e - e_cs(p') (Wood, Belkheir and Liu 1994): the stress "
+        "ratio in triaxial compression M(psi) = M_cs (1 - k psi), M_cs that of friction_angle (then the "
+        "critical-state friction), kept within 0.1 and 2 M_cs; docs/soil-models.md. Needs initial_void_ratio, "
+        "critical_void_ratio and critical_state_slope; absent: a constant friction");
+    s.number("initial_void_ratio").with_unit("-").above(0).may_be_absent().doc(
+        "e_0 of every point (with state_friction_slope): the void ratio then follows the volume (and, under "
+        "phase/suffosion, the fines lost)");
+    s.number("critical_void_ratio").with_unit("-").above(0).may_be_absent().doc(
+        "e_Gamma: the void ratio on the critical state line at reference_pressure (with state_friction_slope)");
+    s.number("critical_state_slope").with_unit("-").at_least(0).may_be_absent().doc(
+        "lambda: the critical state line's slope in e - ln p' (with state_friction_slope)");
+    s.number("reference_pressure").with_unit("Pa").above(0).fallback(1.0e3).doc(
+        "The mean effective stress at which critical_void_ratio is given (with state_friction_slope)");
     return s;
   }
 
@@ -245,6 +76,15 @@ class MohrCoulomb final : public suffuse::Phase {
     if (phi == 0 && !p.has("tensile_strength"))
       issues.push_back({"tensile_strength", "no tension limit", "a tensile_strength when friction_angle is 0 (Tresca)",
                         "nothing"});
+    for (const char* key : {"initial_void_ratio", "critical_void_ratio", "critical_state_slope"})
+      if (p.has("state_friction_slope") != p.has(key))
+        issues.push_back({key, p.has(key) ? "a state parameter without a state friction" : "no state to follow",
+                          p.has(key) ? "state_friction_slope too, or no " + std::string(key)
+                                     : std::string(key) + " with state_friction_slope",
+                          p.has(key) ? "no state_friction_slope" : "nothing"});
+    if (p.has("state_friction_slope") && phi == 0)
+      issues.push_back({"friction_angle", "no critical-state friction to scale",
+                        "friction_angle > 0 with state_friction_slope", "0"});
     if (p.has("tensile_strength") && phi > 0) {
       const double apex = c * std::cos(phi * degree) / std::sin(phi * degree);
       if (p.number("tensile_strength") > apex)
@@ -265,7 +105,15 @@ class MohrCoulomb final : public suffuse::Phase {
         phi_(args.params.number("friction_angle") * degree),
         psi_(args.params.number("dilatancy_angle") * degree),
         tensile_strength_(args.params.maybe_number("tensile_strength")),
-        return_(return_for(1.0)) {}
+        return_(return_for(1.0, phi_)) {
+    if (args.params.has("state_friction_slope"))
+      state_ = suffuse_mohr_coulomb::StateFriction{suffuse_mohr_coulomb::StateFriction::ratio_of(phi_),
+                                                   args.params.number("state_friction_slope"),
+                                                   args.params.number("critical_void_ratio"),
+                                                   args.params.number("critical_state_slope"),
+                                                   args.params.number("reference_pressure")};
+    e0_ = args.params.maybe_number("initial_void_ratio").value_or(0.0);
+  }
 
   double density() const override { return rho_; }
   double p_wave_modulus() const override { return lambda_ + 2 * G_; }
@@ -277,6 +125,24 @@ class MohrCoulomb final : public suffuse::Phase {
     yielding_ = points.add_field({"yielding", K::Scalar, "-", "1 where the last step was plastic, else 0", true});
     trial_stress_ = points.add_field(
         {"mohr_coulomb_trial_stress", K::SymmetricTensor, "Pa", "the elastic trial stress of the last plastic step", false});
+    if (!state_) return;
+    e_ = points.add_field({"void_ratio", K::Scalar, "-", "void ratio e", true});
+    state_parameter_ = points.add_field(
+        {"state_parameter", K::Scalar, "-", "psi = e - e_cs(p'): positive looser than critical", true});
+    friction_ = points.add_field(
+        {"friction_angle", K::Scalar, "deg", "the friction angle of the last step, from the state at its start", true});
+  }
+
+  // The state friction's void ratio, state parameter and friction angle.
+  void initialise(suffuse::PointSet& points, suffuse::PointRange range) const override {
+    if (!state_) return;
+    const double* s = points.data(points.core().stress);
+    for (std::size_t p = range.begin; p < range.end; ++p) {
+      const double mean = suffuse::tensor::mean_stress(s + p * 6);
+      points.data(e_)[p] = e0_;
+      points.data(state_parameter_)[p] = state_->state_parameter(e0_, mean);
+      points.data(friction_)[p] = state_->friction(e0_, mean) / degree;
+    }
   }
 
   // The consistent tangent of the return each point made in its last update
@@ -286,15 +152,19 @@ class MohrCoulomb final : public suffuse::Phase {
   // symmetric for psi < phi; at the apex it is zero (the core then holds the
   // point's nodes by its creep term).
   bool tangent(const suffuse::StressBatch& batch, std::span<double> stiffness) const override {
-    const MohrCoulombReturn reduced = return_for(batch.strength_reduction);
-    const MohrCoulombReturn& ret = batch.strength_reduction == 1.0 ? return_ : reduced;
+    const double F = batch.strength_reduction;
+    const MohrCoulombReturn reduced = return_for(F, phi_);
+    const MohrCoulombReturn& ret = F == 1.0 ? return_ : reduced;
     const suffuse::PointSet& pts = batch.points;
     const double* yielding = pts.data(yielding_);
     const double* trial = pts.data(trial_stress_);
+    const double* friction = state_ ? pts.data(friction_) : nullptr;
     for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
       double* D = stiffness.data() + (p - batch.range.begin) * 36;
       if (yielding[p] == 0)
         suffuse::tensor::isotropic_stiffness(lambda_ + 2 * G_ / 3, G_, D);
+      else if (friction)  // the return of the point's own friction
+        plastic_tangent(return_for(F, friction[p] * degree), suffuse::tensor::to_matrix(trial + p * 6), D);
       else
         plastic_tangent(ret, suffuse::tensor::to_matrix(trial + p * 6), D);
     }
@@ -306,7 +176,7 @@ class MohrCoulomb final : public suffuse::Phase {
     return true;
   }
   void update_stress(const suffuse::StressBatch& batch) const override {
-    const MohrCoulombReturn reduced = return_for(batch.strength_reduction);
+    const MohrCoulombReturn reduced = return_for(batch.strength_reduction, phi_);
     const MohrCoulombReturn& ret = batch.strength_reduction == 1.0 ? return_ : reduced;
     if (batch.points.dim() == 2)
       update<2>(batch, ret);
@@ -321,9 +191,13 @@ class MohrCoulomb final : public suffuse::Phase {
   // dilatancy reduced alike, so it stays at most the friction), a tensile
   // strength t / F. The cone's apex, (c / F) / tan(phi_F) = c cot(phi),
   // does not move, so t / F stays below it.
-  MohrCoulombReturn return_for(double F) const {
+  // `friction`: phi_, or a point's own (state_friction_slope), the dilatancy
+  // at most it.
+  MohrCoulombReturn return_for(double F, double friction) const {
     const bool own = F == 1.0;  // exactly the given angles (atan(tan(x)) may differ from x in its last bit)
-    const double phi = own ? phi_ : std::atan(std::tan(phi_) / F), psi = own ? psi_ : std::atan(std::tan(psi_) / F);
+    const double dilatancy = std::min(psi_, friction);
+    const double phi = own ? friction : std::atan(std::tan(friction) / F);
+    const double psi = own ? dilatancy : std::atan(std::tan(dilatancy) / F);
     const double c = cohesion_ / F;
     double tension = std::numeric_limits<double>::infinity();  // Tresca without a cut-off is refused
     if (tensile_strength_)
@@ -424,21 +298,39 @@ class MohrCoulomb final : public suffuse::Phase {
     double* plastic = pts.data(plastic_strain_);
     double* yielding = pts.data(yielding_);
     double* trial_stress = pts.data(trial_stress_);
+    double* e = state_ ? pts.data(e_) : nullptr;
+    double* psi = state_ ? pts.data(state_parameter_) : nullptr;
+    double* friction = state_ ? pts.data(friction_) : nullptr;
+    // The state friction's state after the step: the void ratio follows the
+    // step's volume change (tension positive), the state parameter the new p'.
+    auto follow_state = [&](std::size_t p, const t::Matrix& d) {
+      if (!state_) return;
+      e[p] = (1 + e[p]) * std::exp(d[0][0] + d[1][1] + d[2][2]) - 1;
+      psi[p] = state_->state_parameter(e[p], t::mean_stress(stress + p * 6));
+    };
     const suffuse::StepIncrements<D> increments(batch);
+    std::optional<MohrCoulombReturn> own;  // a point's own friction, from the state at the step's start
     for (std::size_t p = batch.range.begin; p < batch.range.end; ++p) {
       const auto [d, w] = increments(p);
       double* s6 = stress + p * 6;
+      if (state_) {
+        const double phi = state_->friction(e[p], t::mean_stress(s6));
+        friction[p] = phi / degree;
+        own.emplace(return_for(batch.strength_reduction, phi));
+      }
+      const MohrCoulombReturn& r = own ? *own : ret;
       const t::Matrix trial = t::jaumann_elastic_increment(t::to_matrix(s6), d, w, G_, lambda_);
       const Vec3 values = principal_values(trial);
-      if (ret.admissible(values, tolerance_of(values))) {
+      if (r.admissible(values, tolerance_of(values))) {
         t::store(trial, s6);
         yielding[p] = 0;
+        follow_state(p, d);
         continue;
       }
       const PrincipalAxes pa = principal_axes(trial);
       const Vec3& principal = pa.values;
       t::store(trial, trial_stress + p * 6);
-      const Vec3 s = ret(principal, pa.tolerance).stress;
+      const Vec3 s = r(principal, pa.tolerance).stress;
       // Back to the axes of the trial stress; the plastic strain is D^-1 of the stress removed.
       const Vec3 removed = {principal[0] - s[0], principal[1] - s[1], principal[2] - s[2]};
       const double tr = removed[0] + removed[1] + removed[2];
@@ -458,6 +350,7 @@ class MohrCoulomb final : public suffuse::Phase {
       const t::Voigt add = t::to_voigt(dep);
       for (int c = 0; c < 6; ++c) ep[c] += add[c];
       yielding[p] = 1;
+      follow_state(p, d);
     }
   }
 
@@ -500,6 +393,9 @@ class MohrCoulomb final : public suffuse::Phase {
   double rho_, nu_, E_, G_, lambda_, cohesion_, phi_, psi_;
   std::optional<double> tensile_strength_;
   MohrCoulombReturn return_;
+  std::optional<suffuse_mohr_coulomb::StateFriction> state_;  // state_friction_slope
+  double e0_ = 0;
+  suffuse::FieldId e_ = 0, state_parameter_ = 0, friction_ = 0;
   suffuse::FieldId plastic_strain_ = 0, yielding_ = 0, trial_stress_ = 0;
 };
 
