@@ -701,6 +701,81 @@ TEST(MohrCoulomb, StateFrictionIsTheMaterialOfItsState) {
     }
   }
   EXPECT_LT(deviator[1], 0.8 * deviator[0]) << "the looser state yields at a lower stress";
+
+  // The state after a step: the void ratio follows its volume change (an
+  // isotropic compression of 0.3%), and the next step's friction is that of
+  // the new void ratio at the new p'.
+  auto material = sand;
+  material["state_friction_slope"] = k;
+  material["initial_void_ratio"] = 0.6;
+  material["critical_void_ratio"] = e_gamma;
+  material["critical_state_slope"] = lambda;
+  OnePoint pt("phase/mohr_coulomb", material);
+  pt.points.data(pt.points.id("void_ratio"))[0] = 0.6;
+  const std::array<double, 6> start = {-p0, -p0, -p0, 0, 0, 0};
+  std::copy(start.begin(), start.end(), pt.stress());
+  pt.strain({-1e-3, -1e-3, -1e-3, 0, 0, 0});
+  const double e1 = 1.6 * std::exp(-3e-3) - 1, p1 = suffuse::tensor::mean_stress(pt.stress());
+  EXPECT_NEAR(pt.points.data(pt.points.id("void_ratio"))[0], e1, 1e-14);
+  pt.strain({0, 0, 0, 0, 0, 0});
+  const double psi1 = e1 - (e_gamma - lambda * std::log(p1 / 1e3));
+  const double s_cs = std::sin(30 * pi / 180), M1 = 6 * s_cs / (3 - s_cs) * (1 - k * psi1);
+  EXPECT_NEAR(pt.points.data(pt.points.id("state_parameter"))[0], psi1, 1e-12);
+  EXPECT_NEAR(std::sin(pt.points.data(pt.points.id("friction_angle"))[0] * pi / 180), 3 * M1 / (6 + M1), 1e-12);
+}
+
+// The tangent of a point whose friction follows its state is the derivative
+// of its return, with and without a strength reduction, where the state's
+// friction is above the dilatancy angle (e 0.6) and below it (e 0.9: the
+// dilatancy then takes the friction's value).
+TEST(MohrCoulomb, StateFrictionTangentIsTheDerivativeOfItsReturn) {
+  for (const double e0 : {0.6, 0.9}) {
+    for (const double F : {1.0, 1.4}) {
+      auto material = sand;  // phi_cs 30, c 5 kPa, psi 10 degrees
+      material["state_friction_slope"] = 2.5;
+      material["initial_void_ratio"] = e0;
+      material["critical_void_ratio"] = 0.7;
+      material["critical_state_slope"] = 0.03;
+      OnePoint pt("phase/mohr_coulomb", material);
+      std::mt19937 rng(3);
+      std::normal_distribution<double> n(0.0, 2e-3);
+      std::uniform_real_distribution<double> pressure(20e3, 100e3);
+      int plastic = 0;
+      for (int k = 0; k < 100; ++k) {
+        std::array<double, 6> start{}, de{};
+        for (int i = 0; i < 6; ++i) start[i] = i < 3 ? -pressure(rng) : 0.0;
+        for (int i = 0; i < 6; ++i) de[i] = n(rng);
+        auto stress_after = [&](const std::array<double, 6>& increment) {
+          std::copy(start.begin(), start.end(), pt.stress());
+          pt.points.data(pt.points.id("void_ratio"))[0] = e0;  // each from the same state
+          double* L = pt.points.data(pt.points.core().velocity_gradient);
+          const int map[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) L[i * 3 + j] = increment[map[i][j]];
+          pt.phase->update_stress(suffuse::StressBatch{pt.points, {0, 1}, 1.0, {}, F});
+          return std::array<double, 6>{pt.stress()[0], pt.stress()[1], pt.stress()[2],
+                                       pt.stress()[3], pt.stress()[4], pt.stress()[5]};
+        };
+        stress_after(de);
+        if (pt.points.data(pt.points.id("yielding"))[0] == 0) continue;
+        ++plastic;
+        std::vector<double> D(36);
+        ASSERT_TRUE(pt.phase->tangent(suffuse::StressBatch{pt.points, {0, 1}, 1.0, {}, F}, D));
+        const double h = 1e-8;
+        for (int c = 0; c < 6; ++c) {
+          auto plus = de, minus = de;
+          const double step = c < 3 ? h : h / 2;
+          plus[c] += step;
+          minus[c] -= step;
+          const auto sp = stress_after(plus), sm = stress_after(minus);
+          for (int r = 0; r < 6; ++r)
+            ASSERT_NEAR(D[r * 6 + c], (sp[r] - sm[r]) / (2 * h), 1e-6 * 2e7)
+                << "e0 " << e0 << ", F " << F << ", case " << k << ", row " << r << ", column " << c;
+        }
+      }
+      EXPECT_GT(plastic, 20) << "e0 " << e0 << ", F " << F;
+    }
+  }
 }
 
 // Phase::elastic_stiffness after a plastic step is the stiffness the

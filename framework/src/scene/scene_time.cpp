@@ -45,7 +45,8 @@ ParameterSchema time_schema() {
       "GMRES does not converge in 30 iterations to 1e-6 or leaves a true residual above 1e-5 of the right-hand "
       "side (the same equilibria within the Newton tolerance, much less work where the tangent changes); false: "
       "every iteration factorises its own matrix. On many processes the same through PETSc: GMRES preconditioned "
-      "by the preconditioner its solver last set up");
+      "by the preconditioner its solver last set up. A strength reduction's solves (/factor_of_safety) factorise every "
+      "iteration");
   s.boolean("inertia").fallback(false).doc(
       "Quasi-static only: the mixture's inertia joins each step's balance (backward Euler: the nodal mass times "
       "(du - dt v) / dt^2, v the velocity at the step's start), which makes it implicit dynamics. Negligible in "

@@ -302,10 +302,16 @@ class MohrCoulomb final : public suffuse::Phase {
     double* psi = state_ ? pts.data(state_parameter_) : nullptr;
     double* friction = state_ ? pts.data(friction_) : nullptr;
     // The state friction's state after the step: the void ratio follows the
-    // step's volume change (tension positive), the state parameter the new p'.
+    // step's whole volume change (tension positive; an eigenstrain's too),
+    // the state parameter the new p'.
     auto follow_state = [&](std::size_t p, const t::Matrix& d) {
       if (!state_) return;
-      e[p] = (1 + e[p]) * std::exp(d[0][0] + d[1][1] + d[2][2]) - 1;
+      double volume = d[0][0] + d[1][1] + d[2][2];
+      if (!batch.eigenstrain.empty()) {
+        const double* eig = batch.eigenstrain.data() + (p - batch.range.begin) * 6;
+        volume += eig[0] + eig[1] + eig[2];
+      }
+      e[p] = (1 + e[p]) * std::exp(volume) - 1;
       psi[p] = state_->state_parameter(e[p], t::mean_stress(stress + p * 6));
     };
     const suffuse::StepIncrements<D> increments(batch);

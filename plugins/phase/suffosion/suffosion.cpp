@@ -237,19 +237,28 @@ class Suffosion final : public suffuse::Phase {
     base_->update_stress(b);
     if (!e_) return;
     suffuse::PointSet& pts = b.points;
-    const double* strain = pts.data(pts.core().strain);
+    const double* L = pts.data(pts.core().velocity_gradient);
     const double* f = pts.data(f_);
+    const double* df = pts.data(df_);
     const double* e0 = pts.data(e0_);
     const double* base_e = pts.data(base_e_);
     double* e = pts.data(*e_);
     double* psi = psi_ ? pts.data(*psi_) : nullptr;
+    const int dim = pts.dim();
     for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
       if (!(e0[p] > 0)) continue;  // no void ratio tracked here
       if (!(f[p] < 1))
         throw suffuse::Error(where_ + " (phase/suffosion): material point " + std::to_string(p) +
                              " has lost all its solid (eroded fraction " + std::to_string(f[p]) + ")");
-      // The void-ratio identity, with the accumulated volumetric strain.
-      const double e_new = (1 + e0[p]) * std::exp(-t::volumetric_strain(strain + p * 6)) / (1 - f[p]) - 1;
+      // The void-ratio identity over the step: the volume changes by
+      // exp(tr(L) dt) (a base that tracks e has moved it so already), the
+      // solid by (1 - f) / (1 - f_n). Step by step, from the state at the
+      // step's start: a quasi-static step's strain is the core's only once
+      // it has converged, and its iterations each start from that state.
+      double volume = 0;
+      for (int i = 0; i < dim; ++i) volume += L[p * dim * dim + i * dim + i] * b.dt;
+      const double moved = base_e[p] > 0 ? 1 + e[p] : (1 + e[p]) * std::exp(volume);
+      const double e_new = moved * (1 - (f[p] - df[p])) / (1 - f[p]) - 1;
       if (psi && base_e[p] > 0) psi[p] += e_new - e[p];  // e_cs(p') is the base's: only e moved
       e[p] = e_new;
     }
