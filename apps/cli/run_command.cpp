@@ -253,6 +253,14 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
                 << s.steps << " steps ended by one implicit step once the transport was steady\n";
     if (s.ledger) print_ledger(*s.ledger, scene.dim, scene.name);
   }
+  if (s.failure && sim.process_rank() == 0) {
+    std::cout << "failed: at t = " << std::setprecision(8) << s.failure->time << " s, " << s.failure->reason
+              << " (/failure). The run stopped there";
+    if (!output.empty())
+      std::cout << "; every output ends at that time, and " << (output / (scene.name + ".checkpoint")).string()
+                << " holds that state";
+    std::cout << "\n";
+  }
   return 0;
 }
 

@@ -110,6 +110,12 @@ struct FactorOfSafetySpec {
   int max_iterations = 60;         // Newton iterations after which a solve counts as failed
 };
 
+// When a quasi-static run counts its structure as failed (/failure): a step
+// without equilibrium even halved, or a factor of safety below this.
+struct FailureSpec {
+  double factor_of_safety = 1.0;
+};
+
 // How each point's volumetric strain rate is obtained: from its own velocity
 // gradient, or as the volume-weighted mean over the points of its cell.
 enum class VolumetricStrain { point, cell_average };
@@ -164,6 +170,7 @@ struct Scene {
   std::string fingerprint;
   std::vector<OutputSpec> outputs;
   std::optional<FactorOfSafetySpec> factor_of_safety;
+  std::optional<FailureSpec> failure;
 
   bool erodible() const {
     for (const MaterialSpec& m : materials)

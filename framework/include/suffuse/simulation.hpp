@@ -95,6 +95,13 @@ struct SafetyFactor {
   int newton_iterations = 0;   // over every solve
 };
 
+// A quasi-static run's structure failed (/failure): the time of its last
+// equilibrium, and why no later one counts.
+struct RunFailure {
+  double time = 0;     // [s]
+  std::string reason;  // a sentence: the equilibrium lost, or the factor of safety below the limit
+};
+
 struct RunSummary {
   std::size_t steps = 0;
   std::size_t points = 0;
@@ -127,6 +134,9 @@ struct RunSummary {
   std::size_t point_sorts = 0;
   // Scenes with /factor_of_safety: each evaluation's time [s] and result.
   std::vector<std::pair<double, SafetyFactor>> factors_of_safety;
+  // Scenes with /failure whose structure failed: the run stopped there, with
+  // every output and a checkpoint at that time.
+  std::optional<RunFailure> failure;
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
   // Runs on many processes: the values this process received from the
   // others in the scatters' exchanges (8 bytes each), over the run.
@@ -222,6 +232,10 @@ class Simulation {
   // state is as before afterwards; the point field "safety_shear_strain"
   // (scenes with /factor_of_safety) holds the mechanism.
   SafetyFactor factor_of_safety();
+  // Scenes with /failure: set once the structure failed (a step found no
+  // equilibrium even halved; run() also sets it when a factor of safety
+  // falls below the limit), after which step() is not to be called.
+  const std::optional<RunFailure>& failure() const { return failure_; }
 
   double total_mass() const;
   // Saturated runs: the mass of every species now (throws in dry runs).
@@ -236,6 +250,7 @@ class Simulation {
   void timed(Stage stage, Work&& work);
   void step_explicit();
   void step_quasi_static();
+  std::optional<double> find_equilibrium();
   void create_bodies();
   std::vector<double> unit_weights() const;
   void refuse_or_keep_standing_water();
@@ -290,6 +305,7 @@ class Simulation {
   std::unique_ptr<detail::QuasiStatic> quasi_static_;        // quasi-static runs
   std::unique_ptr<detail::StrengthReduction> strength_reduction_;  // quasi-static runs, made when first asked
   std::optional<FieldId> safety_shear_strain_;               // scenes with /factor_of_safety
+  std::optional<RunFailure> failure_;                        // scenes with /failure, once failed
   std::unique_ptr<detail::PointOrder> point_order_;          // sorts the points when they mixed
   SimulationClock clock_{0};
   StageTimes times_;

@@ -29,6 +29,7 @@ RunOutputs::RunOutputs(const Scene& scene, std::vector<std::unique_ptr<Writer>>&
   for (std::size_t w = 0; w < writers_.size(); ++w)
     interval_.push_back(scene.outputs[w].interval.value_or(scene.end_time / writers_[w]->default_frame_count()));
   next_.assign(writers_.size(), 0.0);
+  written_step_.assign(writers_.size(), none);
   frames_.assign(writers_.size(), 0);
 }
 
@@ -66,9 +67,11 @@ void RunOutputs::start(double time, std::size_t step) {
   if (!writes_) {  // the same exchanges as the first process's below
     for (std::size_t w = 0; w < writers_.size(); ++w) {
       write_frame(w, time, step);
+      written_step_[w] = step;
       next_[w] = interval_[w];
     }
     next_row_ = row_interval_;
+    rows_step_ = step;
     return;
   }
   if (!writers_.empty() || species_ || !reactions_.empty()) fs::create_directories(dir_);
@@ -78,10 +81,12 @@ void RunOutputs::start(double time, std::size_t step) {
   for (std::size_t w = 0; w < writers_.size(); ++w) writers_[w]->open(dir_, output_basename(scene_, w));
   for (std::size_t w = 0; w < writers_.size(); ++w) {
     write_frame(w, time, step);
+    written_step_[w] = step;
     next_[w] = interval_[w];
   }
   if (!series_->empty()) series_->save();
   next_row_ = row_interval_;
+  rows_step_ = step;
 }
 
 WriterCheckpoint RunOutputs::checkpoint() const {
@@ -147,15 +152,17 @@ void RunOutputs::after_step(double now, std::size_t step, bool at_end) {
   if (dir_.empty()) return;
   bool wrote = false;
   for (std::size_t w = 0; w < writers_.size(); ++w) {
-    if (now >= next_[w] - 1e-9 * interval_[w] || at_end) {
+    if (now >= next_[w] - 1e-9 * interval_[w] || (at_end && written_step_[w] != step)) {
       write_frame(w, now, step);
+      written_step_[w] = step;
       next_[w] = next_multiple(interval_[w], now);
       wrote = true;
     }
   }
   if (wrote && series_) series_->save();
-  if (now >= next_row_ - 1e-9 * row_interval_ || at_end) {
+  if (now >= next_row_ - 1e-9 * row_interval_ || (at_end && rows_step_ != step)) {
     write_rows(now);
+    rows_step_ = step;
     next_row_ = next_multiple(row_interval_, now);
   }
 }

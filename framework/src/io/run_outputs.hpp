@@ -32,7 +32,9 @@ class RunOutputs {
   // A restarted run: keeps what was written up to `time` (each writer had
   // written saved.frames[w] frames) and appends after it.
   void resume(double time, const WriterCheckpoint& saved);
-  // After a step: the frames and rows due at `now` (every one at the end).
+  // After a step: the frames and rows due at `now` (at the end, every one
+  // not yet written at this step: a quasi-static step that failed, under
+  // /failure, leaves the step as it was).
   void after_step(double now, std::size_t step, bool at_end);
   void close();
 
@@ -63,6 +65,9 @@ class RunOutputs {
   std::vector<double> interval_, next_;
   std::vector<std::size_t> frames_;
   double row_interval_, next_row_;
+  static constexpr std::size_t none = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> written_step_;  // per writer: the step of its last frame
+  std::size_t rows_step_ = none;           // the step of the last rows
   std::ofstream ledger_, reactions_csv_;
 };
 

@@ -19,7 +19,8 @@ namespace suffuse::detail {
 QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& materials, SaturatedMixture* mixture,
                          const std::vector<std::unique_ptr<BoundaryCondition>>& bcs, ApplyLoads apply_loads)
     : scene_(scene), d_(domain), materials_(materials), mixture_(mixture), bcs_(bcs),
-      apply_loads_(std::move(apply_loads)), linear_(std::make_unique<Linear>()) {
+      apply_loads_(std::move(apply_loads)), linear_(std::make_unique<Linear>()),
+      singular_fails_attempt_(scene.failure.has_value()) {
   if (d_.comm.parallel())
     linear_->distributed = make_distributed_system(d_.comm, "the quasi-static step's solve", "suffuse_qs_");
   const std::size_t nn = d_.grid.node_count();
@@ -234,6 +235,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
     return u > 0 && du <= 1e-12 * u && dp <= 1e-12 * p;
   };
   bool last_step_is_round_off = false;
+  singular_ = false;
   restore_state(saved_);
   double norm = evaluate(dt);
   // A strength reduction's solve beyond its limit does not diverge: its
@@ -278,8 +280,9 @@ bool QuasiStatic::newton(double dt, int& iterations) {
     try {
       delta = reused ? std::move(*reused) : L.solve(rhs);
     } catch (const Error&) {  // PETSc's singular system (the same on every process)
-      if (!reduction_) throw;
-      break;  // a strength reduction's: no equilibrium at that factor
+      if (!reduction_ && !singular_fails_attempt_) throw;
+      singular_ = true;
+      break;  // no equilibrium at that factor, or at that load
     }
     // Backtracking: far from equilibrium a full Newton step on a perfectly
     // plastic skeleton can overshoot onto the wrong side of many returns;
@@ -303,6 +306,18 @@ bool QuasiStatic::newton(double dt, int& iterations) {
   describe_failure();
   restore_state(saved_);
   return false;
+}
+
+double QuasiStatic::largest_increment() const {
+  const auto dim = static_cast<std::size_t>(d_.dim());
+  double largest = 0;
+  for (std::size_t I = 0; I < node_mass_.size(); ++I) {
+    if (node_mass_[I] <= 0) continue;
+    double sq = 0;
+    for (std::size_t i = 0; i < dim; ++i) sq += du_[I * dim + i] * du_[I * dim + i];
+    largest = std::max(largest, sq);
+  }
+  return d_.comm.max(std::sqrt(largest));
 }
 
 QuasiStatic::Held QuasiStatic::held_by(std::size_t b) const {
@@ -363,6 +378,7 @@ void QuasiStatic::describe_failure() {
   sum_over_processes(stiffless_count);
   for (int a = 0; a < dim; ++a) lo[a] = d_.comm.min(lo[a]), hi[a] = d_.comm.max(hi[a]);
   const auto stiffless = static_cast<std::size_t>(stiffless_count[0]);
+  if (singular_) out << (largest >= 0 ? "; " : "") << "the system was singular (a mechanism without stiffness)";
   if (stiffless > 0) {
     out << "; " << stiffless << " material point" << (stiffless > 1 ? "s" : "")
         << " had no stiffness at the last iteration (a stress at the apex of the yield surface, or separated), between ";

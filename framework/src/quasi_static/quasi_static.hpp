@@ -138,6 +138,9 @@ class QuasiStatic {
   // fluidised bed) its deformation is the creep term's, not a prediction
   // (docs/time-integration.md, Fluidisation).
   std::size_t creep_held_points() const { return creep_held_points_; }
+  // The largest displacement of a node with mass over the last solve's
+  // equilibrium (every process's) [m].
+  double largest_increment() const;
 
  private:
   struct Linear;  // the sparse system and its factorisation
@@ -270,6 +273,10 @@ class QuasiStatic {
   std::string failure_;
   std::size_t factorisations_ = 0, gmres_iterations_ = 0;
   std::optional<double> reduction_;  // reduce_strength()
+  // Scenes with /failure: a singular system fails the attempt (a mechanism
+  // without stiffness at the limit load) rather than the run.
+  bool singular_fails_attempt_ = false;
+  bool singular_ = false;  // the last attempt's system was singular
   int reduction_iterations_ = 0;
   int attempted_iterations_ = 0;
 };

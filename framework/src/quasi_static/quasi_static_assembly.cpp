@@ -334,8 +334,11 @@ void QuasiStatic::assemble(double dt) {
 bool QuasiStatic::factorise_or_throw() {
   ++factorisations_;
   if (linear_->factorise()) return true;
-  if (reduction_) return false;  // a strength reduction's: no equilibrium at that factor
-  throw Error(std::string("the quasi-static system is singular: ") + Linear::singular);
+  // A strength reduction's, or a run's under /failure: no equilibrium there.
+  if (reduction_ || singular_fails_attempt_) return singular_ = true, false;
+  throw Error(std::string("the quasi-static system is singular: ") + Linear::singular +
+              "; or, where earlier steps found equilibria, the soil failing: a mechanism without stiffness (give the "
+              "scene a /failure section to stop there with its outputs and a checkpoint)");
 }
 
 }  // namespace suffuse::detail

@@ -10,6 +10,7 @@
 #include "mpm/domain.hpp"
 #include "mpm/point_order.hpp"
 #include "quasi_static/quasi_static.hpp"
+#include "scene/scene_reader.hpp"
 #include "mpm/reactions.hpp"
 #include "io/run_outputs.hpp"
 #include "mixture/saturated_mixture.hpp"
@@ -83,6 +84,10 @@ RunSummary Simulation::run(const RunOptions& options) {
   auto evaluate_safety = [&] {
     const SafetyFactor f = factor_of_safety();
     factors.emplace_back(clock_.time(), f);
+    if (scene_.failure && f.factor < scene_.failure->factor_of_safety)
+      failure_ = RunFailure{clock_.time(), "the factor of safety, " + detail::format(f.factor) +
+                                               ", fell below /failure/factor_of_safety = " +
+                                               detail::format(scene_.failure->factor_of_safety)};
     if (!safety_csv.is_open()) return;
     safety_csv << clock_.time() << ',' << f.factor << ',';
     if (std::isfinite(f.failed_at)) safety_csv << f.failed_at;  // empty: every factor up to max_factor held
@@ -137,27 +142,34 @@ RunSummary Simulation::run(const RunOptions& options) {
   const std::size_t first_step = clock_.steps();
   const std::size_t exchanged_before = domain_->exec.exchanged_values();
   clock_.run_until(end);
-  while (!clock_.reached_end()) {
+  if (failure_ && !dir.empty()) {  // at the start: its factor of safety is below the limit
+    detail::StageTimer timer(times_, Stage::output);
+    save_checkpoint(checkpoint, outputs.checkpoint());
+  }
+  while (!clock_.reached_end() && !failure_) {
     const double dt = clock_.dt();
     const bool end_saved_before = !dir.empty() && scene_.checkpoint_at_end && dt < clock_.nominal_dt();
     if (end_saved_before) {
       detail::StageTimer timer(times_, Stage::output);
       save_checkpoint(end_checkpoint, outputs.checkpoint(), end);
     }
-    step();
+    step();  // a step without equilibrium under /failure leaves the time as it was
     const double now = clock_.time();
     const bool at_end = clock_.reached_end();
     if (end_saved_before && at_end && domain_->comm.root()) std::filesystem::rename(end_checkpoint, checkpoint);
     // Every process stops at the same step (a signal may reach them apart).
     const bool stopping = !at_end && domain_->comm.any(options.stop && options.stop->load());
-    if (safety && (now >= safety_due - 1e-9 * clock_.nominal_dt() || at_end)) {
+    if (safety && !failure_ && (now >= safety_due - 1e-9 * clock_.nominal_dt() || at_end)) {
       evaluate_safety();
       safety_due = next_safety(now);
     }
-    // An interrupted run ends like a finished one: a frame of every output and a checkpoint.
-    outputs.after_step(now, clock_.steps(), at_end || stopping);
+    // An interrupted or failed run ends like a finished one: a frame of
+    // every output and a checkpoint (at a failure, the state handed on).
+    const bool failed = failure_.has_value();
+    outputs.after_step(now, clock_.steps(), at_end || stopping || failed);
     if (!dir.empty() && !(end_saved_before && at_end) &&
-        (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() || (at_end && scene_.checkpoint_at_end) || stopping)) {
+        (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() || (at_end && scene_.checkpoint_at_end) || stopping ||
+         failed)) {
       detail::StageTimer timer(times_, Stage::output);
       save_checkpoint(checkpoint, outputs.checkpoint());
       checkpoint_due = next_checkpoint(now);
@@ -168,7 +180,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     }
     if (stopping) break;
   }
-  const bool interrupted = !clock_.reached_end();
+  const bool interrupted = !clock_.reached_end() && !failure_;
   clock_.run_until(std::numeric_limits<double>::infinity());
   outputs.close();
 
@@ -197,6 +209,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   if (species_) summary.ledger = mass_ledger();
   summary.factors_of_safety = std::move(factors);
   summary.interrupted = interrupted;
+  summary.failure = failure_;
   summary.exchanged_values = domain_->exec.exchanged_values() - exchanged_before;
   return summary;
 }

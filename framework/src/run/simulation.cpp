@@ -428,6 +428,55 @@ void Simulation::step_explicit() {
   clock_.advance();
 }
 
+// The equilibrium at the end of the quasi-static step, its step halved until
+// one converges: the step taken, or none under /failure (failure_ set; the
+// state stays at the last equilibrium). Without /failure, an error.
+std::optional<double> Simulation::find_equilibrium() {
+  const double t = clock_.time();
+  const std::size_t n = clock_.steps();
+  const double nominal = clock_.nominal_dt();
+  double dt = clock_.dt();
+  double mechanism = 0;  // under /failure: the last equilibrium rejected for moving a cell or more
+  for (;;) {
+    std::optional<int> iterations;
+    timed(Stage::solve, [&] { iterations = quasi_static_->solve(t, dt); });
+    // Under /failure, an equilibrium a cell or more away is a mechanism's,
+    // not the step's (the guard would stop the run at it): halved as one
+    // not found, so that the failure is found at the load that starts it.
+    mechanism = 0;
+    if (iterations && scene_.failure) {
+      const double moved = quasi_static_->largest_increment();
+      if (moved >= domain_->grid.min_cell_size()) mechanism = moved, iterations.reset();
+    }
+    if (iterations) {
+      newton_iterations_ += static_cast<std::size_t>(*iterations);
+      if (const std::size_t held = quasi_static_->creep_held_points(); held > 0) {
+        if (creep_held_first_ == 0) creep_held_first_ = held, creep_held_from_ = t + dt;
+        if (held > creep_held_most_) creep_held_most_ = held, creep_held_most_at_ = t + dt;
+      }
+      return dt;
+    }
+    ++halved_steps_;
+    if (dt < 1e-6 * *scene_.dt) break;
+    dt /= 2;
+    clock_.set_step(dt);
+  }
+  const std::string lost = "no equilibrium within /time/max_iterations = " +
+                           std::to_string(scene_.quasi_static.max_iterations) +
+                           " iterations, even after halving the step to " + detail::format(dt) + " s";
+  const std::string last = mechanism > 0 ? ". The last attempt's equilibrium moved a node " +
+                                               detail::format(mechanism) + " m, a cell or more: a mechanism"
+                           : quasi_static_->failure().empty() ? ""
+                                                              : ". At the last attempt " + quasi_static_->failure();
+  if (!scene_.failure)
+    throw Error("step " + std::to_string(n + 1) + " (t = " + detail::format(t) + " s): " + lost +
+                ": the soil may be failing (a collapse has no quasi-static path; run it explicit, or give the scene "
+                "a /failure section to stop there with its outputs and a checkpoint)" + last);
+  failure_ = RunFailure{t, "step " + std::to_string(n + 1) + " found " + lost + last};
+  clock_.set_step(nominal);
+  return std::nullopt;
+}
+
 // The quasi-static step: the equilibrium at t + dt, then erosion and
 // transport in substeps short enough for the transport, with the Darcy flux
 // of that equilibrium. The skeleton responds to this step's erosion in the
@@ -437,28 +486,9 @@ void Simulation::step_quasi_static() {
   const std::size_t n = clock_.steps();
   detail::Domain& d = *domain_;
   const QuasiStaticControls& control = scene_.quasi_static;
-  double dt = clock_.dt();
-  for (;;) {  // halved until the equilibrium converges
-    std::optional<int> iterations;
-    timed(Stage::solve, [&] { iterations = quasi_static_->solve(t, dt); });
-    if (iterations) {
-      newton_iterations_ += static_cast<std::size_t>(*iterations);
-      if (const std::size_t held = quasi_static_->creep_held_points(); held > 0) {
-        if (creep_held_first_ == 0) creep_held_first_ = held, creep_held_from_ = t + dt;
-        if (held > creep_held_most_) creep_held_most_ = held, creep_held_most_at_ = t + dt;
-      }
-      break;
-    }
-    ++halved_steps_;
-    if (dt < 1e-6 * *scene_.dt)
-      throw Error("step " + std::to_string(n + 1) + " (t = " + detail::format(t) +
-                  " s): no equilibrium within /time/max_iterations = " + std::to_string(control.max_iterations) +
-                  " iterations, even after halving the step to " + detail::format(dt) +
-                  " s: the soil may be failing (a collapse has no quasi-static path; run it explicit)" +
-                  (quasi_static_->failure().empty() ? "" : ". At the last attempt " + quasi_static_->failure()));
-    dt /= 2;
-    clock_.set_step(dt);
-  }
+  const std::optional<double> found = find_equilibrium();  // the step halved until one converges
+  if (!found) return;  // under /failure none was found: the run has failed at t
+  const double dt = *found;
   for (std::size_t r = 0; r < reactions_->size(); ++r) {
     const auto held = quasi_static_->held_by(reactions_->condition(r));
     reactions_->add_equilibrium(r, held.force, held.displacement, dt);

@@ -42,7 +42,7 @@ const std::vector<SceneSection>& scene_sections() {
   static const std::vector<SceneSection> sections = {
       top_level_section(), grid_section(),   shape_function_section(),      time_section(),   materials_section(),
       liquids_section(),   bodies_section(), boundary_conditions_section(), outputs_section(),
-      factor_of_safety_section()};
+      factor_of_safety_section(), failure_section()};
   return sections;
 }
 
@@ -142,6 +142,8 @@ std::string fingerprint_of(Json root) {
   // run with it and one without step alike); whether it is found does (the
   // mechanism's point field).
   if (root.contains("factor_of_safety")) root["factor_of_safety"] = Json::object();
+  // The failure criterion changes no step either: a run stops at a failure.
+  root.erase("failure");
   if (root.contains("time") && root["time"].is_object())
     for (const char* key : {"end", "checkpoint_interval", "checkpoint_at_end"}) root["time"].erase(key);
   char hex[17];

@@ -68,6 +68,7 @@ SceneSection bodies_section();
 SceneSection boundary_conditions_section();
 SceneSection outputs_section();
 SceneSection factor_of_safety_section();
+SceneSection failure_section();
 
 // The sections in reading order: the top level (dimension) first, the grid
 // before the bodies checked against it, materials and liquids before the

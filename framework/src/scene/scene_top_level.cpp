@@ -66,7 +66,7 @@ void read_top_level(SceneReader& r, Scene& scene) {
 SceneSection top_level_section() {
   return {"", "scene",
           "Top level of a scene file; also holds the sections grid, time, shape_function, materials, liquids, bodies, "
-          "boundary_conditions, outputs and factor_of_safety",
+          "boundary_conditions, outputs, factor_of_safety and failure",
           top_level_schema, read_top_level};
 }
 

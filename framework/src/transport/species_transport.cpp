@@ -177,7 +177,7 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
     }
   }
   // Liquid leaving the body through a free surface inside the grid.
-  discharge_.push_back({"free_surface", 0, 0, 0, 0});
+  discharge_.push_back({"free_surface", 0, 0, 0, 0, ""});
   discharge_step_.assign(discharge_.size(), {0, 0, 0, 0});
   discharge_carry_.assign(discharge_.size(), {0, 0, 0, 0});
 }
