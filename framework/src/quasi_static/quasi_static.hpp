@@ -161,6 +161,10 @@ class QuasiStatic {
   // water would enter through and opens the closed ones whose pressure rose
   // above zero; true if any changed (the step is then solved again).
   bool settle_seepage_faces();
+  // A later seepage round's first iterate: the last round's equilibrium
+  // (warm_du_, warm_p_, kept by solve), not the step's start.
+  void warm_start();
+  std::vector<double> warm_du_, warm_p_;
   // evaluate's terms of a point whose pores drain: its internal force with
   // the pressure max(psi, 0), its water balance with S(psi) and k_r; keeps
   // the matrix's factors of the point (coupling_, capacity_, relative_).
