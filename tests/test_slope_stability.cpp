@@ -106,9 +106,9 @@ TEST(SlopeStability, EvaluationLeavesTheRunAsItWas) {
   EXPECT_LT(beside, 0.1 * largest) << "the soil beside the moving face";
 }
 
-// A run with /factor_of_safety writes one row per evaluation (the start,
-// each interval, the end), each bracketed to the tolerance, and a restarted
-// run keeps the rows up to its checkpoint and goes on. Without a phase that
+// A run with /factor_of_safety writes one row per evaluation (after the
+// first step, each interval, the end), each bracketed to the tolerance, and a
+// restarted run keeps the rows up to its checkpoint and goes on. Without a phase that
 // reduces its strength the scene is refused before a step.
 TEST(SlopeStability, RunWritesItsFactorsAndRestartsThem) {
   const fs::path out = fs::path(testing::TempDir()) / "suffuse_slope_run";
@@ -122,13 +122,13 @@ TEST(SlopeStability, RunWritesItsFactorsAndRestartsThem) {
   const std::string run = std::string(SUFFUSE_EXECUTABLE) + " run " + (out / "slope.json").string() + " --output " +
                           out.string() + " > " + (out / "log.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(run.c_str()), 0) << suffuse::test::slurp(out / "log.txt");
-  EXPECT_NE(suffuse::test::slurp(out / "log.txt").find("factor of safety (strength reduction, 3 evaluations)"),
+  EXPECT_NE(suffuse::test::slurp(out / "log.txt").find("factor of safety (strength reduction, 2 evaluations)"),
             std::string::npos)
       << suffuse::test::slurp(out / "log.txt");
   auto table = suffuse::test::read_csv(out / "slope.factor_of_safety.csv");
-  ASSERT_EQ(table.rows.size(), 3u);
-  for (std::size_t r = 0; r < 3; ++r) {
-    EXPECT_DOUBLE_EQ(table.rows[r][table.column("time")], static_cast<double>(r));
+  ASSERT_EQ(table.rows.size(), 2u);
+  for (std::size_t r = 0; r < 2; ++r) {
+    EXPECT_DOUBLE_EQ(table.rows[r][table.column("time")], static_cast<double>(r + 1));
     const double factor = table.rows[r][table.column("factor_of_safety")];
     const double failed = table.rows[r][table.column("failed_at")];
     EXPECT_GT(factor, 1.3) << "row " << r;
@@ -137,7 +137,7 @@ TEST(SlopeStability, RunWritesItsFactorsAndRestartsThem) {
     EXPECT_GT(table.rows[r][table.column("solves")], 3);
   }
   // Extended to 3 s from its end checkpoint (with another tolerance: the
-  // controls change no step): rows 0, 1, 2 as they were, then 3.
+  // controls change no step): rows 1, 2 as they were, then 3.
   const auto first = table.rows;
   j["time"]["end"] = 3.0;
   j["factor_of_safety"]["tolerance"] = 0.04;
@@ -147,10 +147,10 @@ TEST(SlopeStability, RunWritesItsFactorsAndRestartsThem) {
                               " > " + (out / "log2.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(restart.c_str()), 0) << suffuse::test::slurp(out / "log2.txt");
   table = suffuse::test::read_csv(out / "slope.factor_of_safety.csv");
-  ASSERT_EQ(table.rows.size(), 4u);
-  for (std::size_t r = 0; r < 3; ++r) EXPECT_EQ(table.rows[r], first[r]) << "row " << r;
-  EXPECT_DOUBLE_EQ(table.rows[3][table.column("time")], 3.0);
-  EXPECT_LE(table.rows[3][table.column("failed_at")] - table.rows[3][table.column("factor_of_safety")], 0.04 + 1e-12);
+  ASSERT_EQ(table.rows.size(), 3u);
+  for (std::size_t r = 0; r < 2; ++r) EXPECT_EQ(table.rows[r], first[r]) << "row " << r;
+  EXPECT_DOUBLE_EQ(table.rows[2][table.column("time")], 3.0);
+  EXPECT_LE(table.rows[2][table.column("failed_at")] - table.rows[2][table.column("factor_of_safety")], 0.04 + 1e-12);
 
   auto elastic = slope_scene(1.0);
   elastic["materials"]["soil"] = {{"type", "phase/linear_elastic"}, {"density", 2000.0}, {"youngs_modulus", 1e8}};

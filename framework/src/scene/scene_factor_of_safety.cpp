@@ -10,8 +10,9 @@ ParameterSchema factor_of_safety_schema() {
   const FactorOfSafetySpec defaults;
   ParameterSchema s;
   s.number("interval").with_unit("s").above(0).may_be_absent().doc(
-      "Simulated time between factors of safety (each after the step that reaches a multiple of it); absent: at the "
-      "start and the end only. Each is written as a row of <scene>.factor_of_safety.csv");
+      "Simulated time between factors of safety (each after the step that reaches a multiple of it; the first after "
+      "the first step, the initial stresses being no equilibrium); absent: after the first step and at the end "
+      "only. Each is written as a row of <scene>.factor_of_safety.csv");
   s.number("tolerance").with_unit("-").above(0).below(1).fallback(defaults.tolerance).doc(
       "The search stops when the factor is bracketed this finely: the largest factor that held and the smallest "
       "that did not differ by less");
