@@ -242,7 +242,7 @@ class Simulation {
   MassLedger mass_ledger() const;
   std::array<double, 3> total_momentum() const;
   // The automatic time step: cfl * h_min / max over materials of the wave
-  // speed (and the drag limit of saturated bodies), times sqrt(mass scaling).
+  // speed (the undrained wave in saturated bodies), times sqrt(mass scaling).
   double critical_time_step() const;
 
  private:

@@ -101,20 +101,18 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b, con
 
 double SaturatedMixture::stable_time_step(const BodySpec& body, const Phase& phase, double h) const {
   // Mieremet et al. 2016: the undrained wave h / c_u, c_u = sqrt((M + K_L/n)
-  // / rho_sat), and the explicit-drag limit 2 (1-n) rho_s K / (n g rho_sat).
-  // A body of points whose file gives each its porosity: the smallest step
-  // over them.
+  // / rho_sat). Not their explicit-drag limit 2 (1-n) rho_s K / (n g rho_sat):
+  // the drag turns semi-implicit at nodes where the step exceeds half of it
+  // (grid_update_saturated). A body of points whose file gives each its
+  // porosity: the smallest step over them.
   const Liquid& liquid = *liquids_[*body.liquid];
   const double rho_s = phase.density();
   const std::vector<double>& given = body.point_values.porosity;
   const std::span<const double> porosities = given.empty() ? std::span(&body.porosity, 1) : std::span(given);
-  std::vector<double> K(porosities.size());
-  permeability_[body.material]->conductivity(porosities, K);
   double dt = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < porosities.size(); ++k) {
-    const double n = porosities[k], rho_sat = (1 - n) * rho_s + n * liquid.density();
-    dt = std::min({dt, h / std::sqrt((phase.p_wave_modulus() + liquid.bulk_modulus() / n) / rho_sat),
-                   2 * (1 - n) * rho_s * K[k] / (n * reference_gravity * rho_sat)});
+  for (const double n : porosities) {
+    const double rho_sat = (1 - n) * rho_s + n * liquid.density();
+    dt = std::min(dt, h / std::sqrt((phase.p_wave_modulus() + liquid.bulk_modulus() / n) / rho_sat));
   }
   return dt;
 }

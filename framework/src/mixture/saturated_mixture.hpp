@@ -39,7 +39,7 @@ class SaturatedMixture final : public MomentumBalance {
   // plus hydrostatic below a water table), liquid and its density (with the
   // suspended fines of `concentration`), conductivity.
   void initialise(const BodySpec& body, const BodyPoints& points, const InitialValues& initial);
-  // The time-step limits of a saturated body (undrained wave, explicit drag).
+  // The time-step limit of a saturated body (its undrained wave).
   double stable_time_step(const BodySpec& body, const Phase& phase, double h) const;
 
   void points_to_grid() override;

@@ -169,7 +169,7 @@ void Simulation::check_time_step() const {
   if (scene_.dt && *scene_.dt > stable * (1 + 1e-12) && !scene_.dt_above_stable)
     throw Error("/time/dt = " + detail::format(*scene_.dt) + " s is above this scene's stable time step, " +
                 detail::format(stable) + " s (cell size over the fastest wave speed" +
-                (saturated() ? ", and the drag limit of saturated bodies" : "") +
+                (saturated() ? ", the undrained wave in saturated bodies" : "") +
                 "): the run would blow up; remove /time/dt for the automatic step (or, if nothing moves, set "
                 "/time/dt_above_stable)");
   const double steps = scene_.end_time / clock_.nominal_dt();
