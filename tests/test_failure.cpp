@@ -1,13 +1,17 @@
 // A quasi-static run that counts its structure as failed (/failure;
 // docs/slope-stability.md, Failure): a load that finds no equilibrium, and a
 // factor of safety below the limit, each stop the run at the time of its
-// last equilibrium, with every output and a checkpoint there.
+// last equilibrium, with every output and a checkpoint there; or, with
+// /failure/collapse, hand over to an explicit run that follows the collapse.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <numbers>
+#include <sstream>
 #include <suffuse/simulation.hpp>
 
 #include "test_support.hpp"
@@ -137,6 +141,206 @@ TEST(Failure, FactorOfSafetyBelowTheLimitStopsTheRun) {
       EXPECT_EQ(s.simulated_time, 2.0);
     }
   }
+}
+
+// The largest displacement of any point, and the mean vertical one of the
+// points under the strip load (x < 0.5 m, the top cell).
+struct Movement {
+  double largest = 0, under_load = 0;
+};
+Movement movement(const suffuse::Simulation& sim) {
+  const suffuse::PointSet& pts = sim.points();
+  const double* u = pts.data(pts.core().displacement);
+  const double* x = pts.data(pts.core().position);
+  Movement m;
+  int count = 0;
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    m.largest = std::max(m.largest, std::hypot(u[2 * p], u[2 * p + 1]));
+    if (x[2 * p] < 0.5 && x[2 * p + 1] - u[2 * p + 1] > 0.9) m.under_load += u[2 * p + 1], ++count;
+  }
+  m.under_load /= std::max(count, 1);
+  return m;
+}
+
+// /failure/collapse: the strip load, rising from 6 s at 5 c per second,
+// soon finds no equilibrium; past it the load drives the footing down as a
+// mechanism. The explicit run that takes over starts at the failure with its
+// state (the quasi-static run's last frame and the hand-over's checkpoint
+// are there), and the footing plunges by more than two cells (10 cm each)
+// in the next second; the last quasi-static step had moved it 3.8 cm. (It
+// slows as it goes: Tresca's isochoric flow locks linear cells, here as in
+// the quasi-static limit load, 22% above Prandtl's, and the footing's sides
+// shear the soil it pushes into.) A longer collapse goes on from the end's
+// checkpoint as from the hand-over's (whose run fails again), bit for bit.
+TEST(Failure, CollapseFollowsTheStripLoadPastItsLimit) {
+  const fs::path out = fresh("suffuse_failure_collapse");
+  auto j = strip_load_scene();
+  j["boundary_conditions"][0]["factor"] = {{0, 0}, {6, 6}, {10, 26}};
+  j["grid"]["cells"] = {20, 16};  // room for the heave beside the footing
+  j["failure"] = {{"collapse", 1.0}, {"collapse_output_interval", 0.1}};
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  suffuse::RunOptions options;
+  options.output_dir = out;
+  std::vector<std::pair<double, double>> footing;  // time, mean vertical displacement under the load
+  options.on_step = [&](const suffuse::Progress& p) { footing.emplace_back(p.time, movement(sim).under_load); };
+  const suffuse::RunSummary s = sim.run(options);
+  ASSERT_TRUE(s.failure.has_value());
+  EXPECT_FALSE(s.interrupted);
+  const double tf = s.failure->time;
+  EXPECT_NEAR(s.simulated_time, tf + 1.0, 1e-9);
+  EXPECT_GT(s.collapse_steps, 100u);
+  auto at = [&](double t) {  // the footing at the last step not after t
+    double u = 0;
+    for (const auto& [time, value] : footing)
+      if (time <= t + 1e-12) u = value;
+    return u;
+  };
+  const double last_step = at(tf - 1e-9) - at(tf), first_half = at(tf) - at(tf + 0.5),
+               second_half = at(tf + 0.5) - at(tf + 1.0);
+  std::cout << "strip load: failed at " << tf << " s with the footing down " << -at(tf)
+            << " m; the last quasi-static step moved it " << last_step << " m; the collapse " << first_half
+            << " m in its first 0.5 s, " << second_half << " m in the next (" << s.collapse_steps
+            << " explicit steps)\n";
+  EXPECT_GT(first_half + second_half, 0.2);
+  ASSERT_TRUE(fs::exists(out / (scene.name + ".failure.checkpoint")));
+  ASSERT_TRUE(fs::exists(out / (scene.name + ".checkpoint")));
+  const std::string pvd = suffuse::test::slurp(out / (scene.name + ".pvd"));
+  std::ostringstream failed, ended;
+  failed << "timestep=\"" << tf << "\"";
+  ended << "timestep=\"" << s.simulated_time << "\"";
+  EXPECT_NE(pvd.find(failed.str()), std::string::npos) << pvd;
+  EXPECT_NE(pvd.find(ended.str()), std::string::npos) << pvd;
+
+  // A longer collapse: from the end's checkpoint it goes on; from the
+  // hand-over's the run fails again and takes the same steps, bit for bit.
+  j["failure"]["collapse"] = 1.25;
+  const suffuse::Scene longer = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation extended(longer, registry);
+  options.on_step = nullptr;
+  options.restart = out / (scene.name + ".checkpoint");
+  const suffuse::RunSummary e = extended.run(options);
+  ASSERT_TRUE(e.failure.has_value());
+  EXPECT_EQ(e.failure->time, tf);
+  EXPECT_NEAR(e.simulated_time, tf + 1.25, 1e-9);
+  suffuse::Simulation again(longer, registry);
+  options.output_dir = fresh("suffuse_failure_collapse_again");
+  options.restart = out / (scene.name + ".failure.checkpoint");
+  const suffuse::RunSummary r = again.run(options);
+  ASSERT_TRUE(r.failure.has_value());
+  EXPECT_EQ(r.failure->time, tf);
+  EXPECT_EQ(r.simulated_time, e.simulated_time);
+  EXPECT_EQ(movement(again).under_load, movement(extended).under_load);
+  EXPECT_LT(movement(extended).under_load, movement(sim).under_load);
+}
+
+// The hand-over keeps an equilibrium: Griffiths and Lane's slope (factor of
+// safety 1.80) "fails" a limit of 2 after its first step, in equilibrium;
+// the explicit run that takes over, undamped and from rest, keeps it, every
+// point moving less than 0.5% of what the slope settled under its weight
+// (1.8 mm) in the next second.
+TEST(Failure, CollapseFromAnEquilibriumStaysAtRest) {
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/slope_stability.json");
+  j["grid"]["cell_size"] = {1.0, 1.0};
+  j["grid"]["cells"] = {33, 12};
+  j["time"]["end"] = 2.0;
+  j["factor_of_safety"] = {{"tolerance", 0.05}};
+  j["failure"] = {{"factor_of_safety", 2.0}, {"collapse", 1.0}};
+  j["outputs"] = nlohmann::json::array();
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  const suffuse::PointSet& pts = sim.points();
+  std::vector<double> at_failure;
+  double largest = 0;
+  suffuse::RunOptions options;
+  options.on_step = [&](const suffuse::Progress&) {
+    const double* u = pts.data(pts.core().displacement);
+    if (at_failure.empty()) {
+      at_failure.assign(u, u + 2 * pts.size());
+      return;
+    }
+    for (std::size_t p = 0; p < pts.size(); ++p)
+      largest = std::max(largest, std::hypot(u[2 * p] - at_failure[2 * p], u[2 * p + 1] - at_failure[2 * p + 1]));
+  };
+  const suffuse::RunSummary s = sim.run(options);
+  ASSERT_TRUE(s.failure.has_value());
+  EXPECT_EQ(s.failure->time, 1.0);
+  EXPECT_NEAR(s.simulated_time, 2.0, 1e-9);
+  double settled = 0;
+  for (std::size_t p = 0; p < pts.size(); ++p) settled = std::max(settled, std::hypot(at_failure[2 * p], at_failure[2 * p + 1]));
+  std::cout << "slope: " << s.collapse_steps << " explicit steps from the equilibrium; largest movement " << largest
+            << " m, against " << settled << " m settled under its weight\n";
+  EXPECT_LT(largest, 5e-3 * settled);
+}
+
+// The hand-over of a saturated body: the same slope under water (a water
+// level 2 m above its crest; grains of 2039 kg/m3, porosity 0.4, K = 1e-7
+// m/s, water at 2.2 GPa) has 3.2; a limit of 20 hands it over after its
+// first step. The explicit run's step is 830 times the explicit drag limit
+// (the drag is semi-implicit). Over the next half second every point moves
+// less than 0.1% of what the slope settled (0.46 mm), every pore pressure
+// changes by less than 0.1% of the largest (118 kPa), and the ledger of the liquid and of the solid
+// closes to round-off across the hand-over.
+TEST(Failure, CollapseOfASubmergedSlopeKeepsItsPressuresAndLedger) {
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/slope_stability.json");
+  j["grid"]["cell_size"] = {1.0, 1.0};
+  j["grid"]["cells"] = {33, 13};
+  j["time"]["end"] = 2.0;
+  j["factor_of_safety"] = {{"tolerance", 0.05}};
+  j["failure"] = {{"factor_of_safety", 20.0}, {"collapse", 0.5}};
+  j["liquids"] = {{"water", {{"type", "phase/pore_liquid"}, {"density", 1000.0}, {"bulk_modulus", 2.2e9},
+                             {"viscosity", 1e-3}}}};
+  j["materials"]["soil"]["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", 1e-7}};
+  j["bodies"][0]["liquid"] = "water";
+  j["bodies"][0]["porosity"] = 0.4;
+  j["bodies"][0]["water_table"] = 12.0;
+  j["boundary_conditions"].push_back({{"type", "bc/water_level"}, {"level", 12.0}});
+  j["outputs"] = nlohmann::json::array();
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  const suffuse::PointSet& pts = sim.points();
+  const double* p = pts.data(pts.id("pore_pressure"));
+  std::vector<double> u_failure, p_failure;
+  double moved = 0, changed = 0, collapse_dt = 0;
+  suffuse::RunOptions options;
+  options.on_step = [&](const suffuse::Progress& progress) {
+    const double* u = pts.data(pts.core().displacement);
+    if (u_failure.empty()) {
+      u_failure.assign(u, u + 2 * pts.size());
+      p_failure.assign(p, p + pts.size());
+      return;
+    }
+    collapse_dt = progress.dt;
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      moved = std::max(moved, std::hypot(u[2 * k] - u_failure[2 * k], u[2 * k + 1] - u_failure[2 * k + 1]));
+      changed = std::max(changed, std::abs(p[k] - p_failure[k]));
+    }
+  };
+  const suffuse::RunSummary s = sim.run(options);
+  ASSERT_TRUE(s.failure.has_value());
+  ASSERT_EQ(s.failure->time, 1.0);
+  EXPECT_NEAR(s.simulated_time, 1.5, 1e-9);
+  double settled = 0, largest_p = 0;
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    settled = std::max(settled, std::hypot(u_failure[2 * k], u_failure[2 * k + 1]));
+    largest_p = std::max(largest_p, std::abs(p_failure[k]));
+  }
+  const double n = 0.4, rho_s = 2038.7359836901123, rho_sat = (1 - n) * rho_s + n * 1000;
+  const double drag_limit = 2 * (1 - n) * rho_s * 1e-7 / (n * 9.81 * rho_sat);
+  ASSERT_TRUE(s.ledger.has_value());
+  std::cout << "submerged slope: " << s.collapse_steps << " explicit steps of " << collapse_dt / drag_limit
+            << " explicit drag limits; largest movement " << moved << " m against " << settled
+            << " m settled; largest pore pressure change " << changed << " Pa of " << largest_p
+            << " Pa; ledger imbalance liquid " << s.ledger->liquid_imbalance() << ", solid "
+            << s.ledger->solid_imbalance() << "\n";
+  EXPECT_GT(collapse_dt, 100 * drag_limit);
+  EXPECT_LT(moved, 1e-3 * settled);
+  EXPECT_LT(changed, 1e-3 * largest_p);
+  EXPECT_LT(s.ledger->liquid_imbalance(), 1e-12);
+  EXPECT_LT(s.ledger->solid_imbalance(), 1e-12);
 }
 
 }  // namespace

@@ -255,10 +255,19 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
   }
   if (s.failure && sim.process_rank() == 0) {
     std::cout << "failed: at t = " << std::setprecision(8) << s.failure->time << " s, " << s.failure->reason
-              << " (/failure). The run stopped there";
-    if (!output.empty())
-      std::cout << "; every output ends at that time, and " << (output / (scene.name + ".checkpoint")).string()
-                << " holds that state";
+              << " (/failure). ";
+    if (scene.failure->collapse) {
+      std::cout << "An explicit run followed the collapse from there to t = " << s.simulated_time << " s ("
+                << s.collapse_steps << " steps)";
+      if (!output.empty())
+        std::cout << "; " << (output / (scene.name + ".failure.checkpoint")).string()
+                  << " holds the state at the failure";
+    } else {
+      std::cout << "The run stopped there";
+      if (!output.empty())
+        std::cout << "; every output ends at that time, and " << (output / (scene.name + ".checkpoint")).string()
+                  << " holds that state";
+    }
     std::cout << "\n";
   }
   return 0;

@@ -111,9 +111,14 @@ struct FactorOfSafetySpec {
 };
 
 // When a quasi-static run counts its structure as failed (/failure): a step
-// without equilibrium even halved, or a factor of safety below this.
+// without equilibrium even halved, or a factor of safety below this; and
+// whether an explicit run then follows the collapse from the last
+// equilibrium, for how long, at which Courant number, with frames how often.
 struct FailureSpec {
   double factor_of_safety = 1.0;
+  std::optional<double> collapse;                  // [s] of explicit dynamics after the failure
+  double collapse_cfl = 0.5;                       // [-] its automatic step, as /time/cfl
+  std::optional<double> collapse_output_interval;  // [s] between its frames; absent: a tenth of it
 };
 
 // How each point's volumetric strain rate is obtained: from its own velocity

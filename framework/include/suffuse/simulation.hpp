@@ -135,8 +135,11 @@ struct RunSummary {
   // Scenes with /factor_of_safety: each evaluation's time [s] and result.
   std::vector<std::pair<double, SafetyFactor>> factors_of_safety;
   // Scenes with /failure whose structure failed: the run stopped there, with
-  // every output and a checkpoint at that time.
+  // every output and a checkpoint at that time; or, with /failure/collapse,
+  // an explicit run followed the collapse from there for collapse_steps
+  // steps (of `steps`), to simulated_time.
   std::optional<RunFailure> failure;
+  std::size_t collapse_steps = 0;
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
   // Runs on many processes: the values this process received from the
   // others in the scatters' exchanges (8 bytes each), over the run.
@@ -288,6 +291,12 @@ class Simulation {
   };
   // Replaces the evolving state by the checkpoint's.
   Restored load_checkpoint(const std::filesystem::path& file);
+  // /failure/collapse (collapse.cpp): the explicit step that follows it, and
+  // the hand-over from the last equilibrium; the time the run ends.
+  double collapse_time_step() const;
+  double collapse_output_interval() const;
+  void start_collapse();
+  double end_time() const;
 
   Scene scene_;
   std::unique_ptr<detail::Domain> domain_;
@@ -306,6 +315,7 @@ class Simulation {
   std::unique_ptr<detail::StrengthReduction> strength_reduction_;  // quasi-static runs, made when first asked
   std::optional<FieldId> safety_shear_strain_;               // scenes with /factor_of_safety
   std::optional<RunFailure> failure_;                        // scenes with /failure, once failed
+  std::optional<double> collapse_from_;  // /failure/collapse: the time the explicit run took over
   std::unique_ptr<detail::PointOrder> point_order_;          // sorts the points when they mixed
   SimulationClock clock_{0};
   StageTimes times_;

@@ -5,8 +5,8 @@
 
 namespace suffuse {
 
-inline constexpr int abi_major = 20;
+inline constexpr int abi_major = 21;
 inline constexpr int abi_minor = 0;
-inline constexpr const char* framework_version = "0.20.0";
+inline constexpr const char* framework_version = "0.21.0";
 
 }  // namespace suffuse

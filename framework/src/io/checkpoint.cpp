@@ -81,6 +81,11 @@ void Simulation::save_checkpoint(const std::filesystem::path& file, const Writer
   h["writer_frames"] = writers.frames;
   h["writer_states"] = writers.states;
   if (ends_run_at) h["ends_run_at"] = *ends_run_at;
+  if (collapse_from_) {  // a collapse's state: a restart goes on with it
+    h["collapse_from"] = *collapse_from_;
+    h["failure_time"] = failure_->time;
+    h["failure_reason"] = failure_->reason;
+  }
   for (FieldId f = 0; f < pts.field_count(); ++f)
     h["fields"].push_back({{"name", pts.info(f).name}, {"components", pts.components(f)}});
   const std::vector<double> ledger = species_ ? species_->saved_state() : std::vector<double>{};
@@ -196,6 +201,16 @@ Simulation::Restored Simulation::load_checkpoint(const std::filesystem::path& fi
                      h.at("writer_states").get<std::vector<std::string>>()},
                     std::nullopt};
   if (h.contains("ends_run_at")) restored.ends_run_at = h.at("ends_run_at").get<double>();
+  if (h.contains("collapse_from")) {
+    if (!scene_.failure || !scene_.failure->collapse) {
+      std::ostringstream at;
+      at << h.at("failure_time").get<double>();
+      throw Error(where + "it holds the collapse after a failure at t = " + at.str() +
+                  " s, and the scene has no /failure/collapse to go on with");
+    }
+    collapse_from_ = h.at("collapse_from").get<double>();
+    failure_ = RunFailure{h.at("failure_time").get<double>(), h.at("failure_reason").get<std::string>()};
+  }
   return restored;
 }
 

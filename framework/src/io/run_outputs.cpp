@@ -33,10 +33,19 @@ RunOutputs::RunOutputs(const Scene& scene, std::vector<std::unique_ptr<Writer>>&
   frames_.assign(writers_.size(), 0);
 }
 
-// The next multiple of `interval` after `now` (one frame per step at most).
+// The next multiple of `interval` after `now`, counted from the origin (one
+// frame per step at most).
 double RunOutputs::next_multiple(double interval, double now) const {
   const double eps = 1e-9 * interval;
-  return (std::floor((now + eps) / interval) + 1) * interval;
+  return origin_ + (std::floor((now - origin_ + eps) / interval) + 1) * interval;
+}
+
+void RunOutputs::follow_collapse(double from, double interval) {
+  origin_ = from;
+  interval_.assign(writers_.size(), interval);
+  row_interval_ = interval;
+  for (std::size_t w = 0; w < writers_.size(); ++w) next_[w] = next_multiple(interval, from);
+  next_row_ = next_multiple(interval, from);
 }
 
 // The ledger at `time`: a sum over every process's points, so every process

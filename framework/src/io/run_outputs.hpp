@@ -36,6 +36,9 @@ class RunOutputs {
   // not yet written at this step: a quasi-static step that failed, under
   // /failure, leaves the step as it was).
   void after_step(double now, std::size_t step, bool at_end);
+  // From a quasi-static run's failure at `from` on (/failure/collapse): a
+  // frame of every writer and a row of every CSV each `interval`.
+  void follow_collapse(double from, double interval);
   void close();
 
   // What a checkpoint keeps of the writers now: the frames each has written
@@ -65,6 +68,7 @@ class RunOutputs {
   std::vector<double> interval_, next_;
   std::vector<std::size_t> frames_;
   double row_interval_, next_row_;
+  double origin_ = 0;  // of the multiples of the intervals (a collapse's start)
   static constexpr std::size_t none = static_cast<std::size_t>(-1);
   std::vector<std::size_t> written_step_;  // per writer: the step of its last frame
   std::size_t rows_step_ = none;           // the step of the last rows

@@ -54,7 +54,7 @@ void Simulation::write_run_info(const std::filesystem::path& file) const {
 RunSummary Simulation::run(const RunOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  const double end = scene_.end_time;
+  double end = scene_.end_time;  // a collapse's end once it follows a failure
   const std::filesystem::path& dir = options.output_dir;
 
   detail::RunOutputs outputs(scene_, writers_, dir, *domain_, species_.get(), *reactions_, *grid_projection_, times_);
@@ -99,13 +99,16 @@ RunSummary Simulation::run(const RunOptions& options) {
   };
   if (!options.restart.empty()) {
     const Restored restored = load_checkpoint(options.restart);
+    end = end_time();  // a checkpoint of a collapse goes on with it
     // A finished run's checkpoint stands for its end, even when it holds the
     // state before its last, shortened step (below).
     const double at = std::max(clock_.time(), restored.ends_run_at.value_or(clock_.time()));
     if (at >= end)
       throw Error("cannot restart from " + options.restart.string() + ": it is at t = " + std::to_string(at) +
-                  " s, the scene ends at " + std::to_string(end) + " s; raise /time/end to extend the run");
+                  " s, the " + (collapse_from_ ? "collapse" : "scene") + " ends at " + std::to_string(end) +
+                  " s; raise " + (collapse_from_ ? "/failure/collapse" : "/time/end") + " to extend the run");
     outputs.resume(clock_.time(), restored.writers);
+    if (collapse_from_) outputs.follow_collapse(*collapse_from_, collapse_output_interval());
     open_safety_csv(clock_.time());
   } else {
     open_safety_csv(std::nullopt);
@@ -143,9 +146,10 @@ RunSummary Simulation::run(const RunOptions& options) {
   } remove_unused{end_checkpoint, domain_->comm.root()};
 
   const std::size_t first_step = clock_.steps();
+  std::size_t collapse_first_step = clock_.steps();  // once a collapse follows a failure
   const std::size_t exchanged_before = domain_->exec.exchanged_values();
   clock_.run_until(end);
-  while (!clock_.reached_end() && !failure_) {
+  while (!clock_.reached_end() && (!failure_ || collapse_from_)) {
     const double dt = clock_.dt();
     const bool end_saved_before = !dir.empty() && scene_.checkpoint_at_end && dt < clock_.nominal_dt();
     if (end_saved_before) {
@@ -164,14 +168,24 @@ RunSummary Simulation::run(const RunOptions& options) {
     }
     // An interrupted or failed run ends like a finished one: a frame of
     // every output and a checkpoint (at a failure, the state handed on).
-    const bool failed = failure_.has_value();
+    const bool failed = failure_ && !collapse_from_;
+    const bool collapse_follows = failed && scene_.failure->collapse;
     outputs.after_step(now, clock_.steps(), at_end || stopping || failed);
     if (!dir.empty() && !(end_saved_before && at_end) &&
         (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() || (at_end && scene_.checkpoint_at_end) || stopping ||
          failed)) {
+      // The state at the hand-over keeps a file of its own: the collapse's
+      // checkpoints and its end's take the run's name.
       detail::StageTimer timer(times_, Stage::output);
-      save_checkpoint(checkpoint, outputs.checkpoint());
+      save_checkpoint(collapse_follows ? dir / (scene_.name + ".failure.checkpoint") : checkpoint,
+                      outputs.checkpoint());
       checkpoint_due = next_checkpoint(now);
+    }
+    if (collapse_follows && !stopping) {
+      start_collapse();
+      end = end_time();
+      outputs.follow_collapse(now, collapse_output_interval());
+      collapse_first_step = clock_.steps();
     }
     if (options.on_step) {
       options.on_step(Progress{clock_.steps(), now, end, dt, point_count(),
@@ -179,7 +193,7 @@ RunSummary Simulation::run(const RunOptions& options) {
     }
     if (stopping) break;
   }
-  const bool interrupted = !clock_.reached_end() && !failure_;
+  const bool interrupted = !clock_.reached_end() && (!failure_ || collapse_from_);
   clock_.run_until(std::numeric_limits<double>::infinity());
   outputs.close();
 
@@ -209,6 +223,7 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.factors_of_safety = std::move(factors);
   summary.interrupted = interrupted;
   summary.failure = failure_;
+  if (collapse_from_) summary.collapse_steps = clock_.steps() - collapse_first_step;
   summary.exchanged_values = domain_->exec.exchanged_values() - exchanged_before;
   return summary;
 }

@@ -155,6 +155,13 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
                                                          [this](NodeState& n, double t) { apply_loads(n, t); });
     quasi_static_->set_standing_water(water_.get());
     clock_ = SimulationClock(*scene.dt);  // validation requires it
+    if (scene.failure && scene.failure->collapse) {
+      const double dt = collapse_time_step(), steps = *scene.failure->collapse / dt;
+      if (steps > max_steps)
+        throw Error("/failure/collapse = " + detail::format(*scene.failure->collapse) + " s would take " +
+                    detail::format(steps) + " explicit steps of " + detail::format(dt) + " s (at most " +
+                    detail::format(max_steps) + "): shorten it");
+    }
     return;
   }
   clock_ = SimulationClock(scene.dt ? *scene.dt : critical_time_step());
@@ -383,10 +390,10 @@ void Simulation::constrain_velocity_recording_reactions(double time, double dt) 
 
 void Simulation::step() {
   timed(Stage::shape, [&] { locate_points(); });  // shape functions at the points (sorted again if they mixed)
-  if (quasi_static_)
+  if (quasi_static_ && !collapse_from_)
     step_quasi_static();
   else
-    step_explicit();
+    step_explicit();  // explicit runs, and the collapse after a quasi-static run's failure
 }
 
 void Simulation::locate_points() {
