@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <iostream>
 #include <random>
 #include <sstream>
 #include <suffuse/element_test.hpp>
@@ -974,6 +975,117 @@ TEST(ModifiedCamClay, IsotropicCompressionFollowsLambdaAndKappa) {
   EXPECT_NEAR(slope(-1e-5, 3000), -0.2, 1e-3 * 0.2) << "loading: lambda";
   EXPECT_NEAR(slope(1e-5, 300), -0.05, 1e-3 * 0.05) << "unloading: kappa";
   EXPECT_NEAR(slope(-1e-5, 300), -0.05, 1e-3 * 0.05) << "reloading inside the surface: kappa";
+}
+
+// The consistent tangent (Phase::tangent after a step) is the derivative of
+// the returned stress by the strain increment (without spin): central
+// differences of the return agree with it, from normally and lightly
+// overconsolidated states under deviatoric stress, for random increments
+// that load (plastic returns) or unload (elastic ones), within 1e-6 of the
+// bulk modulus v p' / kappa in every one of the 36 entries.
+TEST(ModifiedCamClay, TangentIsTheDerivativeOfTheReturn) {
+  std::mt19937 rng(23);
+  std::normal_distribution<double> n(0.0, 2e-3);
+  std::uniform_real_distribution<double> pressure(50e3, 300e3), ocr(1.0, 1.5), shear(-0.6, 0.6);
+  int plastic = 0, elastic = 0;
+  double worst = 0;
+  for (int k = 0; k < 300; ++k) {
+    OnePoint pt("phase/modified_cam_clay", clay);
+    const double p0 = pressure(rng);
+    std::array<double, 6> start{-p0, -p0, -p0, 0, 0, 0};
+    for (int i = 0; i < 6; ++i) start[i] += shear(rng) * 0.3 * p0 * (i < 3 ? 1.0 : 0.5);
+    std::copy(start.begin(), start.end(), pt.stress());
+    pt.phase->initialise(pt.points, {0, 1});
+    std::copy(pt.stress(), pt.stress() + 6, start.begin());  // as initialised (raised to the minimum if needed)
+    double* pc = pt.points.data(pt.points.id("preconsolidation_pressure"));
+    double* e = pt.points.data(pt.points.id("void_ratio"));
+    *pc *= ocr(rng);
+    const double pc0 = *pc, e0 = *e;
+    std::array<double, 6> de{};
+    for (int i = 0; i < 6; ++i) de[i] = n(rng) - (i < 3 ? 2e-3 : 0.0);  // mostly compressed
+    auto stress_after = [&](const std::array<double, 6>& increment) {
+      std::copy(start.begin(), start.end(), pt.stress());
+      *pc = pc0, *e = e0;
+      pt.strain(increment);
+      return std::array<double, 6>{pt.stress()[0], pt.stress()[1], pt.stress()[2],
+                                   pt.stress()[3], pt.stress()[4], pt.stress()[5]};
+    };
+    stress_after(de);
+    const bool yielded = field(pt, "cam_clay_plastic_multiplier") > 0;
+    (yielded ? plastic : elastic) += 1;
+    std::vector<double> D(36);
+    ASSERT_TRUE(pt.phase->tangent(suffuse::StressBatch{pt.points, {0, 1}, 1.0, {}}, D));
+    const double scale = (1 + e0) * p0 / 0.05, h = 1e-8;
+    for (int c = 0; c < 6; ++c) {
+      auto plus = de, minus = de;
+      const double step = c < 3 ? h : h / 2;  // tensor components; the tangent acts on engineering shear
+      plus[c] += step;
+      minus[c] -= step;
+      const auto sp = stress_after(plus), sm = stress_after(minus);
+      for (int r = 0; r < 6; ++r) {
+        const double fd = (sp[r] - sm[r]) / (2 * h);
+        worst = std::max(worst, std::abs(D[r * 6 + c] - fd) / scale);
+        ASSERT_NEAR(D[r * 6 + c], fd, 1e-6 * scale)
+            << "case " << k << (yielded ? " (plastic)" : " (elastic)") << ", row " << r << ", column " << c;
+      }
+    }
+  }
+  std::cout << "Cam-Clay tangent: " << plastic << " plastic and " << elastic
+            << " elastic steps; largest difference from central differences " << worst << " of v p' / kappa\n";
+  EXPECT_GT(plastic, 100) << "the test reached the yield surface";
+  EXPECT_GT(elastic, 10) << "elastic steps were checked";
+}
+
+// In a quasi-static run the consistent tangent makes Newton converge
+// quadratically: the Terzaghi column of share/scenes/terzaghi.json, normally
+// consolidated Cam-Clay at p' = 100 kPa under a load raised to 130 kPa at
+// once, consolidates plastically in 20 steps of 0.05 s (T_v up to 0.5).
+// Every step converges without halving, in at most 5 iterations, and once
+// within 1e-3 of the forces each iteration squares the residual: r_k+1 <=
+// C r_k^2 with C below 100 (a linear rate of 0.1 would give C = 1e4 at
+// r_k = 1e-5). The first step: 1.2e-2, 1.2e-2, 2.0e-3, 1.3e-5, 4.7e-10. (With the elastic tangent, K = v p' / kappa, the same run took
+// 10,197 iterations in 511 steps, 297 attempts halved.)
+TEST(ModifiedCamClay, QuasiStaticConsolidationConvergesQuadratically) {
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/terzaghi.json");
+  j["outputs"] = nlohmann::json::array();
+  j.erase("damping");
+  j["shape_function"] = {{"type", "shape/linear"}};
+  j["time"] = {{"end", 1.0}, {"integration", "quasi_static"}, {"dt", 0.05}};
+  auto material = clay;
+  material["type"] = "phase/modified_cam_clay";
+  material["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", 0.03}};
+  j["materials"]["soil"] = material;
+  const double p0 = 100e3, load = 130e3;
+  j["bodies"][0]["stress"] = {-p0, -p0, -p0, 0.0, 0.0, 0.0};
+  j["bodies"][0]["pore_pressure"] = load - p0;
+  suffuse::test::boundary_condition(j, {{"type", "bc/traction"}})["traction"] = {0.0, -load};
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  std::size_t steps = 0, most = 0;
+  double largest_c = 0;
+  suffuse::RunOptions options;
+  options.on_step = [&](const suffuse::Progress&) {
+    const std::vector<double> r = sim.newton_residuals();
+    ++steps;
+    most = std::max(most, r.size() - 1);
+    if (steps == 1) {
+      std::cout << "Cam-Clay column, first step's residuals:";
+      for (const double v : r) std::cout << " " << v;
+      std::cout << "\n";
+    }
+    // The iterations within 1e-3 of the forces (where the points that yield
+    // no longer change), above the round-off of the residual (1e-12).
+    for (std::size_t k = 0; k + 1 < r.size(); ++k)
+      if (r[k + 1] > 1e-12 && r[k] < 1e-3) largest_c = std::max(largest_c, r[k + 1] / (r[k] * r[k]));
+  };
+  const suffuse::RunSummary s = sim.run(options);
+  std::cout << "Cam-Clay column: " << s.newton_iterations << " Newton iterations in " << s.steps << " steps, "
+            << s.halved_steps << " halved; at most " << most << " in a step; r_k+1 / r_k^2 at most " << largest_c << "\n";
+  EXPECT_EQ(s.halved_steps, 0u);
+  EXPECT_EQ(s.steps, 20u);
+  EXPECT_LE(most, 5u);
+  EXPECT_LT(largest_c, 100);
 }
 
 // The lines are integrated exactly: one increment of 30% volumetric strain

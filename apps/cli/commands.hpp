@@ -33,6 +33,7 @@ struct RunCommand {
   bool quiet = false;
   std::optional<double> checkpoint_every;  // [s] of simulated time
   std::filesystem::path restart;           // a checkpoint to continue from
+  bool newton = false;                     // print each quasi-static step's Newton residuals
 };
 int cmd_run(const std::filesystem::path& scene_file, const RunCommand& command);
 

@@ -97,7 +97,10 @@ int main(int argc, char** argv) {
         "simulated seconds between checkpoints, OUTPUT/<scene>.checkpoint (run; default: the scene's "
         "/time/checkpoint_interval; one is written at the end unless /time/checkpoint_at_end is false)")(
         "restart", po::value<std::string>(),
-        "continue the run saved in this checkpoint; its outputs continue in the output directory (run)");
+        "continue the run saved in this checkpoint; its outputs continue in the output directory (run)")(
+        "newton",
+        "print each quasi-static step's Newton iterations: the out-of-balance force relative to the forces, "
+        "before the first solve and after each iteration (run)");
     po::options_description hidden;
     hidden.add_options()("command", po::value<std::string>())("argument", po::value<std::string>());
     po::options_description all;
@@ -140,6 +143,7 @@ int main(int argc, char** argv) {
           throw suffuse::Error("--checkpoint-every must be a positive number of seconds");
       }
       if (vm.count("restart")) run.restart = vm["restart"].as<std::string>();
+      run.newton = vm.count("newton") != 0;
       return cmd_run(arg, run);
     }
     if (command == "element") {

@@ -177,6 +177,18 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
       }
     };
   }
+  // --newton: a line per quasi-static step on standard output (the
+  // collapse's explicit steps have none).
+  if (command.newton && sim.process_rank() == 0) {
+    options.on_step = [&sim, progress = std::move(options.on_step)](const suffuse::Progress& p) {
+      if (progress) progress(p);
+      const std::vector<double> r = sim.newton_residuals();
+      if (r.empty() || sim.failure()) return;
+      std::cout << "newton: step " << p.step << ", t = " << p.time << " s, dt = " << p.dt << " s:";
+      for (const double v : r) std::cout << ' ' << std::setprecision(2) << v;
+      std::cout << std::setprecision(6) << '\n';
+    };
+  }
   const suffuse::RunSummary s = sim.run(options);
   if (terminal) std::fprintf(stderr, "\n");
   if (s.interrupted && sim.process_rank() != 0) return 128 + stop_signal.load();

@@ -239,6 +239,11 @@ class Simulation {
   // equilibrium even halved; run() also sets it when a factor of safety
   // falls below the limit), after which step() is not to be called.
   const std::optional<RunFailure>& failure() const { return failure_; }
+  // Quasi-static runs: the last step's Newton iterations, as the
+  // out-of-balance force relative to the forces before the first solve and
+  // after each iteration (docs/time-integration.md, Tangents). Empty in
+  // explicit runs.
+  const std::vector<double>& newton_residuals() const { return newton_residuals_; }
 
   double total_mass() const;
   // Saturated runs: the mass of every species now (throws in dry runs).
@@ -316,6 +321,7 @@ class Simulation {
   std::optional<FieldId> safety_shear_strain_;               // scenes with /factor_of_safety
   std::optional<RunFailure> failure_;                        // scenes with /failure, once failed
   std::optional<double> collapse_from_;  // /failure/collapse: the time the explicit run took over
+  std::vector<double> newton_residuals_;  // the last quasi-static step's
   std::unique_ptr<detail::PointOrder> point_order_;          // sorts the points when they mixed
   SimulationClock clock_{0};
   StageTimes times_;

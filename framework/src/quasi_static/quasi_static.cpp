@@ -262,6 +262,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
   singular_ = false;
   restore_state(saved_);
   double norm = evaluate(dt);
+  residuals_.assign(1, force_scale_ > 0 ? norm / force_scale_ : norm);
   // A strength reduction's solve beyond its limit does not diverge: its
   // iterations cycle through the same few returns, the residual never lower.
   // It counts as failed once that many iterations found no new lowest
@@ -325,6 +326,7 @@ bool QuasiStatic::newton(double dt, int& iterations) {
       if (halving == 6 || (std::isfinite(norm) && merit() <= (1 - 1e-4 * alpha) * before)) break;
       alpha /= 2;
     }
+    residuals_.push_back(force_scale_ > 0 ? norm / force_scale_ : norm);
     last_step_is_round_off = alpha == 1 && round_off(delta);
   }
   describe_failure();

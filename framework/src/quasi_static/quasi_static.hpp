@@ -141,6 +141,9 @@ class QuasiStatic {
   // The largest displacement of a node with mass over the last solve's
   // equilibrium (every process's) [m].
   double largest_increment() const;
+  // The last attempt's out-of-balance force relative to the forces, before
+  // its first solve and after each iteration (how fast Newton converged).
+  const std::vector<double>& residuals() const { return residuals_; }
 
  private:
   struct Linear;  // the sparse system and its factorisation
@@ -273,6 +276,7 @@ class QuasiStatic {
   std::size_t stencil_slots_ = 1;
   std::vector<double> modulus_;              // per material: the P-wave modulus, for the creep term
   double force_scale_ = 0;
+  std::vector<double> residuals_;  // residuals()
   std::size_t equations_ = 0, displacement_equations_ = 0;  // the displacements' come first
   std::string failure_;
   std::size_t factorisations_ = 0, gmres_iterations_ = 0;

@@ -457,6 +457,7 @@ std::optional<double> Simulation::find_equilibrium() {
     }
     if (iterations) {
       newton_iterations_ += static_cast<std::size_t>(*iterations);
+      newton_residuals_ = quasi_static_->residuals();  // a factor of safety's solves come later
       if (const std::size_t held = quasi_static_->creep_held_points(); held > 0) {
         if (creep_held_first_ == 0) creep_held_first_ = held, creep_held_from_ = t + dt;
         if (held > creep_held_most_) creep_held_most_ = held, creep_held_most_at_ = t + dt;

@@ -97,6 +97,14 @@ class ModifiedCamClay final : public suffuse::Phase {
     q_ = points.add_field({"deviatoric_stress", K::Scalar, "Pa", "q = sqrt(3 J2)", true});
     eta_ = points.add_field({"stress_ratio", K::Scalar, "-", "eta = q / p'", true});
     psi_ = points.add_field({"state_parameter", K::Scalar, "-", "psi = e - e_cs(p'): positive looser than critical", true});
+    // What the consistent tangent needs of the last return (tangent()).
+    trial_ = points.add_field({"cam_clay_trial_deviator", K::SymmetricTensor, "Pa",
+                               "the deviator of the last step's elastic trial stress", false});
+    dv_ = points.add_field({"cam_clay_step_compression", K::Scalar, "-",
+                            "-dv / v_n of the last step, 1 - exp(-d eps_v)", false});
+    G_step_ = points.add_field({"cam_clay_step_shear_modulus", K::Scalar, "Pa", "G of the last step", false});
+    dl_ = points.add_field({"cam_clay_plastic_multiplier", K::Scalar, "Pa^-1",
+                            "the last step's plastic multiplier (0: elastic)", false});
   }
 
   void initialise(suffuse::PointSet& points, suffuse::PointRange range) const override {
@@ -120,16 +128,59 @@ class ModifiedCamClay final : public suffuse::Phase {
     }
   }
 
-  // The elastic stiffness of the current state, K = v p' / kappa (at least
-  // at the minimum mean stress): the quasi-static iterations converge on the
-  // returned stresses (a modified Newton method).
+  // The consistent tangent of the last step's return: the derivative of the
+  // returned stress by the strain increment (the spin's rotation of the old
+  // deviator left out), so that the quasi-static iterations converge
+  // quadratically. Elastic: K = v p' / kappa at the step's end and the
+  // step's G. Plastic: the implicit function theorem on the return's
+  // residuals r(p', p_c, dl; dv, q_tr) = 0 at the converged state gives
+  // dp' and d dl from d dv = -(1 - dv) tr(d eps) and
+  // dq_tr = (3 G / q_tr) s_tr : d eps; the stress is s_tr / (1 + c dl) - p' I.
   bool tangent(const suffuse::StressBatch& b, std::span<double> stiffness) const override {
-    const double* stress = b.points.data(b.points.core().stress);
-    const double* e = b.points.data(e_);
+    namespace t = suffuse::tensor;
+    const suffuse::PointSet& pts = b.points;
+    const double* stress = pts.data(pts.core().stress);
+    const double *e = pts.data(e_), *pcs = pts.data(pc_), *trial = pts.data(trial_), *dvs = pts.data(dv_),
+                 *Gs = pts.data(G_step_), *dls = pts.data(dl_);
+    const double M2 = M_ * M_;
     for (std::size_t i = b.range.begin; i < b.range.end; ++i) {
-      const double p = std::max(p_min_, suffuse::tensor::mean_stress(stress + i * 6));
-      const double K = (1 + e[i]) * p / kappa_;
-      suffuse::tensor::isotropic_stiffness(K, shear(K), stiffness.data() + (i - b.range.begin) * 36);
+      double* D = stiffness.data() + (i - b.range.begin) * 36;
+      const double p = std::max(p_min_, t::mean_stress(stress + i * 6));
+      const double dv = dvs[i], G = Gs[i] > 0 ? Gs[i] : shear((1 + e[i]) * p / kappa_);
+      const double v_n = (1 + e[i]) / (1 - dv), a = v_n / kappa_;
+      const double L = dls[i];
+      if (!(L > 0)) {  // elastic: p' = p_n exp(a dv), the deviator by Hooke
+        t::isotropic_stiffness(a * p * (1 - dv), G, D);
+        continue;
+      }
+      const double* s = trial + i * 6;
+      const double q_tr = std::sqrt(1.5 * t::double_contraction(s, s));
+      const double pc = pcs[i], theta = v_n / (lambda_ - kappa_), c = 6 * G / M2, h = 2 * p - pc;
+      const double Q = q_tr / (1 + c * L), dQ = -q_tr * c / ((1 + c * L) * (1 + c * L));
+      // The return's Jacobian at convergence (A = p', B = p_c there).
+      const double J[3][3] = {{1 + p * a * 2 * L, -p * a * L, p * a * h},
+                              {-pc * theta * 2 * L, 1 + pc * theta * L, -pc * theta * h},
+                              {2 * p - pc, -p, 2 * Q * dQ / M2}};
+      const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+      // The first and last rows of J^-1 (cofactors over det).
+      const double inv00 = (J[1][1] * J[2][2] - J[1][2] * J[2][1]) / det,
+                   inv02 = (J[0][1] * J[1][2] - J[0][2] * J[1][1]) / det,
+                   inv20 = (J[1][0] * J[2][1] - J[1][1] * J[2][0]) / det,
+                   inv22 = (J[0][0] * J[1][1] - J[0][1] * J[1][0]) / det;
+      const double r_q = 2 * Q / (M2 * (1 + c * L));  // d r_yield / d q_tr
+      const double p_dv = inv00 * p * a, p_dq = -inv02 * r_q, L_dv = inv20 * p * a, L_dq = -inv22 * r_q;
+      // d dv / d eps = -(1 - dv) m, d q_tr / d eps = (3 G / q_tr) s_tr (engineering shear).
+      const double k_q = q_tr > 0 ? 3 * G / q_tr : 0.0;
+      t::isotropic_stiffness(0.0, G / (1 + c * L), D);  // 2 G dev(d eps) / (1 + c dl)
+      const double f = -c / ((1 + c * L) * (1 + c * L));
+      for (int r = 0; r < 6; ++r)
+        for (int col = 0; col < 6; ++col) {
+          const double m_col = col < 3 ? 1.0 : 0.0, m_row = r < 3 ? 1.0 : 0.0;
+          const double d_dv = -(1 - dv) * m_col, d_q = k_q * s[col];
+          D[r * 6 + col] += f * s[r] * (L_dv * d_dv + L_dq * d_q) - m_row * (p_dv * d_dv + p_dq * d_q);
+        }
     }
     return true;
   }
@@ -192,9 +243,13 @@ class ModifiedCamClay final : public suffuse::Phase {
       // -dv / v_n = 1 - exp(-d eps_v): the change of specific volume the lines are written in.
       const double dv = 1 - std::exp(-dev);
       const double p_tr = p_n * std::exp(v_n * dv / kappa_);
-      double p = p_tr, pc = pc_n, q = q_tr;
+      double p = p_tr, pc = pc_n, q = q_tr, dl = 0;
       if (q_tr * q_tr / (M_ * M_) + p_tr * (p_tr - pc_n) > 1e-12 * pc_n * pc_n)
-        return_map(p_n, pc_n, v_n, dv, q_tr, G, p, pc, q, i);
+        dl = return_map(p_n, pc_n, v_n, dv, q_tr, G, p, pc, q, i);
+      std::copy(s_tr.begin(), s_tr.end(), pts.data(trial_) + i * 6);
+      pts.data(dv_)[i] = dv;
+      pts.data(G_step_)[i] = G;
+      pts.data(dl_)[i] = dl;
       const double scale = q_tr > 0 ? q / q_tr : 0.0;
       for (int c = 0; c < 6; ++c) s6[c] = scale * s_tr[c] - (c < 3 ? p : 0.0);
       const double v = v_n * std::exp(-dev);
@@ -209,8 +264,9 @@ class ModifiedCamClay final : public suffuse::Phase {
   // iterate leaves p', p_c > 0, dl >= 0. `dev` is -dv / v_n of the step; the
   // plastic part of it is dl (2 p' - p_c), so v stays on the lines exactly:
   // -dv = kappa d ln p' + (lambda - kappa) d ln p_c.
-  void return_map(double p_n, double pc_n, double v, double dev, double q_tr, double G, double& p, double& pc,
-                  double& q, std::size_t point) const {
+  // Returns the plastic multiplier.
+  double return_map(double p_n, double pc_n, double v, double dev, double q_tr, double G, double& p, double& pc,
+                    double& q, std::size_t point) const {
     const double M2 = M_ * M_, a = v / kappa_, theta = v / (lambda_ - kappa_), c = 6 * G / M2;
     double dl = 0;
     auto residual = [&](double P, double Pc, double L, double r[3], double J[3][3]) {
@@ -228,7 +284,7 @@ class ModifiedCamClay final : public suffuse::Phase {
       residual(p, pc, dl, r, J);
       if (std::abs(r[0]) <= 1e-12 * p && std::abs(r[1]) <= 1e-12 * pc && std::abs(r[2]) <= 1e-12 * pc * pc) {
         q = q_tr / (1 + c * dl);
-        return;
+        return dl;
       }
       // Solve J dx = -r (Cramer's rule: 3x3).
       const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
@@ -258,7 +314,7 @@ class ModifiedCamClay final : public suffuse::Phase {
   // Set-up only (initialise runs once per body, on one thread), for p_wave_modulus().
   mutable double stiffest_bulk_modulus_ = 0;
   std::string where_;
-  suffuse::FieldId e_ = 0, pc_ = 0, p_ = 0, q_ = 0, eta_ = 0, psi_ = 0;
+  suffuse::FieldId e_ = 0, pc_ = 0, p_ = 0, q_ = 0, eta_ = 0, psi_ = 0, trial_ = 0, dv_ = 0, G_step_ = 0, dl_ = 0;
 };
 
 }  // namespace
