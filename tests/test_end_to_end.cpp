@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <map>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 
@@ -816,4 +817,33 @@ TEST(EndToEnd, WarningsAreGivenUnderQuiet) {
   EXPECT_NE(slurp(out / "log.txt").find("warning: body 'column': washing out its erodible fines (fines_content 0.99"),
             std::string::npos)
       << slurp(out / "log.txt");
+}
+
+// --newton prints each quasi-static step's residuals: Terzaghi's column in
+// two quasi-static steps, each line ending below the Newton tolerance
+// (1e-8 of the forces) after a larger first residual.
+TEST(EndToEnd, NewtonOptionPrintsEachQuasiStaticStep) {
+  const fs::path out = fresh_dir("newton");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/terzaghi.json");
+  j.erase("damping");
+  j["time"] = {{"end", 0.1}, {"integration", "quasi_static"}, {"dt", 0.05}};
+  j["outputs"] = nlohmann::json::array();
+  std::ofstream(out / "column.json") << j.dump(2);
+  ASSERT_EQ(run("run " + (out / "column.json").string() + " --newton --quiet --output " + (out / "run").string(),
+                out / "log.txt"),
+            0)
+      << slurp(out / "log.txt");
+  std::istringstream log(slurp(out / "log.txt"));
+  std::vector<std::vector<double>> steps;
+  for (std::string line; std::getline(log, line);) {
+    if (line.rfind("newton: step ", 0) != 0) continue;
+    std::istringstream values(line.substr(line.find("s:") + 2));
+    steps.emplace_back(std::istream_iterator<double>(values), std::istream_iterator<double>());
+  }
+  ASSERT_EQ(steps.size(), 2u) << slurp(out / "log.txt");
+  for (const auto& r : steps) {
+    ASSERT_GE(r.size(), 2u);
+    EXPECT_LT(r.back(), 1e-8);
+    EXPECT_GT(r.front(), r.back());
+  }
 }

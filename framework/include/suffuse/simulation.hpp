@@ -299,6 +299,7 @@ class Simulation {
   // /failure/collapse (collapse.cpp): the explicit step that follows it, and
   // the hand-over from the last equilibrium; the time the run ends.
   double collapse_time_step() const;
+  void check_collapse_steps() const;
   double collapse_output_interval() const;
   void start_collapse();
   double end_time() const;

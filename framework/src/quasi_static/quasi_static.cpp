@@ -334,6 +334,11 @@ bool QuasiStatic::newton(double dt, int& iterations) {
   return false;
 }
 
+void QuasiStatic::reject_attempt() {
+  restore_state(saved_);
+  if (materials_.writes_eigenstrain() && !reduction_) restore_state(step_start_);
+}
+
 double QuasiStatic::largest_increment() const {
   const auto dim = static_cast<std::size_t>(d_.dim());
   double largest = 0;

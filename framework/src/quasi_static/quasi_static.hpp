@@ -141,6 +141,9 @@ class QuasiStatic {
   // The largest displacement of a node with mass over the last solve's
   // equilibrium (every process's) [m].
   double largest_increment() const;
+  // A converged attempt not taken (under /failure, a mechanism's): the
+  // points go back to the step's start, as after one that did not converge.
+  void reject_attempt();
   // The last attempt's out-of-balance force relative to the forces, before
   // its first solve and after each iteration (how fast Newton converged).
   const std::vector<double>& residuals() const { return residuals_; }

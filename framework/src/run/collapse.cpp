@@ -7,6 +7,8 @@
 
 #include "mixture/saturated_mixture.hpp"
 #include "mpm/domain.hpp"
+#include "scene/scene_reader.hpp"
+#include "suffuse/error.hpp"
 #include "suffuse/simulation.hpp"
 
 namespace suffuse {
@@ -18,6 +20,16 @@ namespace suffuse {
 // faster than the step (docs/two-phase.md).
 double Simulation::collapse_time_step() const {
   return scene_.failure->collapse_cfl / scene_.cfl * critical_time_step();
+}
+
+// A collapse that would not end in a lifetime is refused before anything is
+// written, as an explicit run's end is (check_time_step).
+void Simulation::check_collapse_steps() const {
+  const double dt = collapse_time_step(), steps = *scene_.failure->collapse / dt;
+  if (steps > max_steps)
+    throw Error("/failure/collapse = " + detail::format(*scene_.failure->collapse) + " s would take " +
+                detail::format(steps) + " explicit steps of " + detail::format(dt) + " s (at most " +
+                detail::format(max_steps) + "): shorten it");
 }
 
 double Simulation::collapse_output_interval() const {

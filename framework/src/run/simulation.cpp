@@ -155,13 +155,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
                                                          [this](NodeState& n, double t) { apply_loads(n, t); });
     quasi_static_->set_standing_water(water_.get());
     clock_ = SimulationClock(*scene.dt);  // validation requires it
-    if (scene.failure && scene.failure->collapse) {
-      const double dt = collapse_time_step(), steps = *scene.failure->collapse / dt;
-      if (steps > max_steps)
-        throw Error("/failure/collapse = " + detail::format(*scene.failure->collapse) + " s would take " +
-                    detail::format(steps) + " explicit steps of " + detail::format(dt) + " s (at most " +
-                    detail::format(max_steps) + "): shorten it");
-    }
+    if (scene.failure && scene.failure->collapse) check_collapse_steps();
     return;
   }
   clock_ = SimulationClock(scene.dt ? *scene.dt : critical_time_step());
@@ -453,7 +447,10 @@ std::optional<double> Simulation::find_equilibrium() {
     mechanism = 0;
     if (iterations && scene_.failure) {
       const double moved = quasi_static_->largest_increment();
-      if (moved >= domain_->grid.min_cell_size()) mechanism = moved, iterations.reset();
+      if (moved >= domain_->grid.min_cell_size()) {
+        mechanism = moved, iterations.reset();
+        quasi_static_->reject_attempt();  // the next attempt starts from the step's start again
+      }
     }
     if (iterations) {
       newton_iterations_ += static_cast<std::size_t>(*iterations);
