@@ -56,7 +56,7 @@ fs::path fresh(const char* name) {
 // Tresca's isochoric flow: 5.75 c on 5 cm cells, 5.45 c on 2.5 cm); asserted
 // above Prandtl's and within 25% of it. The last frame and the checkpoint
 // are at that time, and the checkpoint restarts: its run fails at once, at
-// the same time.
+// the same time, and writes no second frame there.
 TEST(Failure, StripLoadFindsNoEquilibriumNearPrandtlsLimit) {
   const fs::path out = fresh("suffuse_failure_strip");
   suffuse::Registry registry;
@@ -86,6 +86,8 @@ TEST(Failure, StripLoadFindsNoEquilibriumNearPrandtlsLimit) {
   ASSERT_TRUE(r.failure.has_value());
   EXPECT_EQ(r.failure->time, s.failure->time);
   EXPECT_EQ(r.steps, 0u);
+  const std::string resumed = suffuse::test::slurp(out / (scene.name + ".pvd"));
+  EXPECT_EQ(resumed.find(last.str()), resumed.rfind(last.str())) << "no second frame at the failure: " << resumed;
 }
 
 // Without /failure the same load stops the run with an error that says so.
@@ -349,12 +351,20 @@ TEST(Failure, CollapseOfASubmergedSlopeKeepsItsPressuresAndLedger) {
 // kPa) under 30 kPa applied over one step of 1 s would settle about 0.2 m,
 // two cells: without /failure the run stops with the guard's error; with it
 // the step is halved until each moves less than a cell (steps of 0.25,
-// 0.375 and 0.375 s), and the run reaches its end without failing, settled
-// within 2% of a run in steps of 0.25 s that needed no halving. (Before the
-// rejected attempt's state was put back, the next attempt started from it:
-// the block rose 5 cm in its first step and ended at 0.115 m.)
+// 0.375 and 0.375 s), and the run reaches its end without failing, its top
+// cell settled 0.198 m: within 2% of a run in steps of 0.25 s that needed
+// no halving (0.196 m), and within 5% of the hypoelastic column's
+// 0.95 (1 - exp(-q / E_oed)) = 0.190 m, the error of three or four steps
+// each linearised at its start (the 1-D step's own: 0.195 for four; GIMP
+// converges to 0.1907 as the steps shrink). (Before the rejected attempt's
+// state was put back, the next attempt started from it: the block, on
+// linear shape functions then, rose 5 cm in its first step and ended at
+// 0.115 m.)
 TEST(Failure, AStepThatMovesACellIsHalvedNotAFailure) {
   auto j = strip_load_scene();
+  // GIMP: with linear shape functions a point crossing a node costs an error
+  // of its own, which grows with the number of steps (docs/time-integration.md).
+  j["shape_function"] = {{"type", "shape/gimp"}};
   j["materials"]["clay"] = {{"type", "phase/linear_elastic"}, {"density", 1000.0}, {"youngs_modulus", 1e5},
                             {"poisson_ratio", 0.3}};
   j["boundary_conditions"][0] = {{"type", "bc/traction"}, {"box_min", {0.0, 1.0}}, {"box_max", {2.0, 1.0}},
@@ -398,8 +408,10 @@ TEST(Failure, AStepThatMovesACellIsHalvedNotAFailure) {
   EXPECT_EQ(s.simulated_time, 1.0);
   EXPECT_GT(s.halved_steps, 0u);
   EXPECT_LT(largest_step, 0.1);
-  EXPECT_GT(settled, 0.1);
+  const double E_oed = 1e5 * 0.7 / (1.3 * 0.4), hypoelastic = 0.95 * (1 - std::exp(-30e3 / E_oed));
+  std::cout << "soft block: the hypoelastic column's top cell " << hypoelastic << " m\n";
   EXPECT_NEAR(settled, expected, 0.02 * expected);
+  EXPECT_NEAR(settled, hypoelastic, 0.05 * hypoelastic);
 }
 
 // A collapse that would take more than Simulation::max_steps explicit steps

@@ -66,6 +66,10 @@ struct ResumePoint {
 struct WriterCheckpoint {
   std::vector<std::size_t> frames;  // frames each has written
   std::vector<std::string> states;  // each one's saved_state()
+  // Every output wrote its frame and rows at the checkpoint's step (a run
+  // that ended, failed or was stopped there): a run restarted from it that
+  // ends at once (a failure again) writes none twice.
+  bool written_at_its_step = false;
 };
 
 class Writer {

@@ -80,6 +80,7 @@ void Simulation::save_checkpoint(const std::filesystem::path& file, const Writer
   h["point_order_reference"] = point_order_->reference();  // when the points are sorted next
   h["writer_frames"] = writers.frames;
   h["writer_states"] = writers.states;
+  h["outputs_written_at_its_step"] = writers.written_at_its_step;
   if (ends_run_at) h["ends_run_at"] = *ends_run_at;
   if (collapse_from_) {  // a collapse's state: a restart goes on with it
     h["collapse_from"] = *collapse_from_;
@@ -201,6 +202,7 @@ Simulation::Restored Simulation::load_checkpoint(const std::filesystem::path& fi
                      h.at("writer_states").get<std::vector<std::string>>()},
                     std::nullopt};
   if (h.contains("ends_run_at")) restored.ends_run_at = h.at("ends_run_at").get<double>();
+  restored.writers.written_at_its_step = h.value("outputs_written_at_its_step", false);
   if (h.contains("collapse_from")) {
     if (!scene_.failure || !scene_.failure->collapse) {
       std::ostringstream at;

@@ -1,5 +1,6 @@
 #include "io/run_outputs.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "mpm/reactions.hpp"
@@ -100,13 +101,20 @@ void RunOutputs::start(double time, std::size_t step) {
 
 WriterCheckpoint RunOutputs::checkpoint() const {
   WriterCheckpoint saved{frames_, {}};
+  saved.written_at_its_step =
+      last_step_ != none && rows_step_ == last_step_ &&
+      std::all_of(written_step_.begin(), written_step_.end(), [&](std::size_t s) { return s == last_step_; });
   if (writes_)
     for (const auto& w : writers_) saved.states.push_back(w->saved_state());
   return saved;
 }
 
-void RunOutputs::resume(double time, const WriterCheckpoint& saved) {
+void RunOutputs::resume(double time, std::size_t step, const WriterCheckpoint& saved) {
   if (dir_.empty()) return;
+  if (saved.written_at_its_step) {
+    written_step_.assign(writers_.size(), step);
+    rows_step_ = step;
+  }
   const std::vector<std::size_t>& frames = saved.frames;
   if (frames.size() != writers_.size())
     throw Error("cannot restart: the checkpoint has " + std::to_string(frames.size()) + " writers, the scene " +
@@ -159,6 +167,7 @@ void RunOutputs::write_rows(double now) {
 
 void RunOutputs::after_step(double now, std::size_t step, bool at_end) {
   if (dir_.empty()) return;
+  last_step_ = step;
   bool wrote = false;
   for (std::size_t w = 0; w < writers_.size(); ++w) {
     if (now >= next_[w] - 1e-9 * interval_[w] || (at_end && written_step_[w] != step)) {

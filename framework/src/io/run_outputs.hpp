@@ -31,7 +31,7 @@ class RunOutputs {
   void start(double time, std::size_t step);
   // A restarted run: keeps what was written up to `time` (each writer had
   // written saved.frames[w] frames) and appends after it.
-  void resume(double time, const WriterCheckpoint& saved);
+  void resume(double time, std::size_t step, const WriterCheckpoint& saved);
   // After a step: the frames and rows due at `now` (at the end, every one
   // not yet written at this step: a quasi-static step that failed, under
   // /failure, leaves the step as it was).
@@ -72,6 +72,7 @@ class RunOutputs {
   static constexpr std::size_t none = static_cast<std::size_t>(-1);
   std::vector<std::size_t> written_step_;  // per writer: the step of its last frame
   std::size_t rows_step_ = none;           // the step of the last rows
+  std::size_t last_step_ = none;           // of the last after_step
   std::ofstream ledger_, reactions_csv_;
 };
 

@@ -107,7 +107,7 @@ RunSummary Simulation::run(const RunOptions& options) {
       throw Error("cannot restart from " + options.restart.string() + ": it is at t = " + std::to_string(at) +
                   " s, the " + (collapse_from_ ? "collapse" : "scene") + " ends at " + std::to_string(end) +
                   " s; raise " + (collapse_from_ ? "/failure/collapse" : "/time/end") + " to extend the run");
-    outputs.resume(clock_.time(), restored.writers);
+    outputs.resume(clock_.time(), clock_.steps(), restored.writers);
     if (collapse_from_) outputs.follow_collapse(*collapse_from_, collapse_output_interval());
     open_safety_csv(clock_.time());
   } else {
