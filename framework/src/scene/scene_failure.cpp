@@ -60,7 +60,8 @@ void read_failure(SceneReader& r, Scene& scene) {
 SceneSection failure_section() {
   return {"failure", "failure",
           "When a quasi-static run counts its structure as failed: it then stops, with every output and a "
-          "checkpoint at the time of failure (docs/slope-stability.md)",
+          "checkpoint at the time of failure, or hands over to an explicit run that follows the collapse "
+          "(collapse; docs/slope-stability.md)",
           failure_schema, read_failure};
 }
 
