@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -427,6 +428,41 @@ TEST(Failure, ACollapseThatWouldNotEndIsRefusedBeforeTheRun) {
   } catch (const suffuse::Error& e) {
     EXPECT_NE(std::string(e.what()).find("/failure/collapse = 1000000000 s would take"), std::string::npos) << e.what();
   }
+}
+
+// A run stopped (RunOptions::stop) at the step of a failure whose collapse
+// was to follow hands nothing over: it is interrupted, with the run's own
+// checkpoint at the failure and no collapse step. Restarted from it, the run
+// goes on, fails again at its next factor of safety and follows the
+// collapse. Griffiths and Lane's slope, a limit of 2 against its 1.80.
+TEST(Failure, AStopAtTheFailureHandsNothingOver) {
+  const fs::path out = fresh("suffuse_failure_stopped");
+  auto j = coarse_slope(12);
+  j["failure"] = {{"factor_of_safety", 2.0}, {"collapse", 0.25}};
+  j["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", 1.0}}};
+  suffuse::Registry registry;
+  const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
+  const std::atomic<bool> stop{true};
+  suffuse::RunOptions options;
+  options.output_dir = out;
+  options.stop = &stop;
+  suffuse::Simulation sim(scene, registry);
+  const suffuse::RunSummary s = sim.run(options);
+  ASSERT_TRUE(s.failure.has_value());
+  EXPECT_EQ(s.failure->time, 1.0);
+  EXPECT_TRUE(s.interrupted);
+  EXPECT_EQ(s.collapse_steps, 0u);
+  EXPECT_FALSE(fs::exists(out / (scene.name + ".failure.checkpoint")));
+  ASSERT_TRUE(fs::exists(out / (scene.name + ".checkpoint")));
+
+  suffuse::Simulation again(scene, registry);
+  options.stop = nullptr;
+  options.restart = out / (scene.name + ".checkpoint");
+  const suffuse::RunSummary r = again.run(options);
+  ASSERT_TRUE(r.failure.has_value());
+  EXPECT_FALSE(r.interrupted);
+  EXPECT_GT(r.collapse_steps, 0u);
+  EXPECT_NEAR(r.simulated_time, r.failure->time + 0.25, 1e-9);
 }
 
 }  // namespace

@@ -139,7 +139,9 @@ void unpack_remap_block(std::size_t begin, std::size_t end, const double* block,
 // end, w + dt (a_L - a_s) with a_s from the mixture balance
 // m_s a_s + m_L a_L = f: semi-implicit, so that no conductivity bounds the
 // step, and w falls to zero in a step where the drag dominates (the
-// undrained limit) instead of overshooting.
+// undrained limit) instead of overshooting. It predicts a_s undamped: local
+// damping (explicit runs only; a collapse has none) then acts on the solid's
+// force as everywhere.
 template <int D>
 void grid_update_saturated(std::size_t begin, std::size_t end, double dt, double damping, const double* ms,
                            const double* ps, const double* f, const double* ml, const double* pl, const double* fl,

@@ -169,7 +169,9 @@ RunSummary Simulation::run(const RunOptions& options) {
     // An interrupted or failed run ends like a finished one: a frame of
     // every output and a checkpoint (at a failure, the state handed on).
     const bool failed = failure_ && !collapse_from_;
-    const bool collapse_follows = failed && scene_.failure->collapse;
+    // A stop at the failure's step hands nothing over: its checkpoint is the
+    // run's, from which a restart fails again and follows the collapse.
+    const bool collapse_follows = failed && scene_.failure->collapse && !stopping;
     outputs.after_step(now, clock_.steps(), at_end || stopping || failed);
     if (!dir.empty() && !(end_saved_before && at_end) &&
         (now >= checkpoint_due - 1e-9 * clock_.nominal_dt() || (at_end && scene_.checkpoint_at_end) || stopping ||
@@ -181,7 +183,7 @@ RunSummary Simulation::run(const RunOptions& options) {
                       outputs.checkpoint());
       checkpoint_due = next_checkpoint(now);
     }
-    if (collapse_follows && !stopping) {
+    if (collapse_follows) {
       start_collapse();
       end = end_time();
       outputs.follow_collapse(now, collapse_output_interval());
@@ -193,7 +195,10 @@ RunSummary Simulation::run(const RunOptions& options) {
     }
     if (stopping) break;
   }
-  const bool interrupted = !clock_.reached_end() && (!failure_ || collapse_from_);
+  // Stopped: before the end, and not at a failure the run ends at (one
+  // whose collapse was to follow was stopped before it started).
+  const bool interrupted =
+      !clock_.reached_end() && (!failure_ || collapse_from_ || (scene_.failure && scene_.failure->collapse));
   clock_.run_until(std::numeric_limits<double>::infinity());
   outputs.close();
 
