@@ -15,11 +15,7 @@ namespace {
 
 using suffuse::test::scene_from;
 
-std::string text(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
+using suffuse::test::text;
 
 // A rigid column (every skeleton node held) of height L, with a Darcy flux q
 // entering at the base and leaving through the drained top; no gravity, so

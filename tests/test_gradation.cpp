@@ -19,6 +19,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using suffuse::test::fresh_dir;
 using suffuse::Gradation;
 using suffuse::Verdict;
 
@@ -301,15 +302,8 @@ using suffuse::test::slurp;
 
 const std::string dem = (suffuse::test::source_dir() / "share/gradations/dem_gap_graded.csv").string();
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("suffuse_gradation_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 TEST(GradationCommand, PrintsATableWithEveryCriterionAndTheErodibleFines) {
-  const fs::path dir = fresh_dir("table");
+  const fs::path dir = fresh_dir("gradation_table");
   ASSERT_EQ(gradation(dir, dem), 0) << slurp(dir / "log.txt");
   const std::string out = slurp(dir / "log.txt");
   EXPECT_NE(out.find("criterion"), std::string::npos);
@@ -320,7 +314,7 @@ TEST(GradationCommand, PrintsATableWithEveryCriterionAndTheErodibleFines) {
 }
 
 TEST(GradationCommand, SaysWhichOrderItReadTheSievesIn) {
-  const fs::path dir = fresh_dir("order");
+  const fs::path dir = fresh_dir("gradation_order");
   std::ofstream(dir / "down.csv") << "size [mm], passing [%]\n19, 100\n4.75, 60\n2, 35\n0.425, 35\n0.075, 5\n";
   ASSERT_EQ(gradation(dir, "down.csv"), 0) << slurp(dir / "log.txt");
   EXPECT_NE(slurp(dir / "log.txt").find("down.csv: 5 points (read largest sieve first), 0.075-19 mm"),
@@ -333,7 +327,7 @@ TEST(GradationCommand, SaysWhichOrderItReadTheSievesIn) {
 }
 
 TEST(GradationCommand, JsonHasTheSameVerdicts) {
-  const fs::path dir = fresh_dir("json");
+  const fs::path dir = fresh_dir("gradation_json");
   ASSERT_EQ(gradation(dir, dem + " --json"), 0) << slurp(dir / "log.txt");
   const nlohmann::json j = nlohmann::json::parse(slurp(dir / "log.txt"));
   const auto g = suffuse::read_gradation_file(dem);
@@ -348,7 +342,7 @@ TEST(GradationCommand, JsonHasTheSameVerdicts) {
 }
 
 TEST(GradationCommand, PngIsWrittenAndBadInputIsAnErrorWithNothingWritten) {
-  const fs::path dir = fresh_dir("png");
+  const fs::path dir = fresh_dir("gradation_png");
   ASSERT_EQ(gradation(dir, dem + " --png psd.png"), 0) << slurp(dir / "log.txt");
   const std::string png = slurp(dir / "psd.png");
   ASSERT_GT(png.size(), 1000u);
@@ -428,12 +422,12 @@ TEST(GradationScene, ValidateWarnsWhenAStableSoilIsEroded) {
   nlohmann::json j = column();
   j["bodies"][0]["gradation_points"] = {{0.2, 0}, {0.4, 50}, {0.8, 100}};  // the uniform sand above
   j["bodies"][0]["fines_content"] = 0.1;
-  const fs::path dir = command::fresh_dir("validate");
+  const fs::path dir = fresh_dir("gradation_validate");
   std::ofstream(dir / "stable.json") << j.dump(1);
   const std::string line = std::string(SUFFUSE_EXECUTABLE) + " validate " + (dir / "stable.json").string() + " > " +
                            (dir / "log.txt").string() + " 2>&1";
-  ASSERT_EQ(std::system(line.c_str()), 0) << command::slurp(dir / "log.txt");
-  const std::string out = command::slurp(dir / "log.txt");
+  ASSERT_EQ(std::system(line.c_str()), 0) << suffuse::test::slurp(dir / "log.txt");
+  const std::string out = suffuse::test::slurp(dir / "log.txt");
   EXPECT_NE(out.find("Kezdi (1979)"), std::string::npos) << out;
   EXPECT_NE(out.find("warning: body 'column': every applicable criterion finds its gradation stable, yet material "
                      "'gap_graded_sand' erodes it (erosion/vardoulakis_ccr)"),

@@ -25,14 +25,8 @@
 namespace {
 
 namespace fs = std::filesystem;
+using suffuse::test::fresh_dir;
 using nlohmann::json;
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("suffuse_parallel_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 using suffuse::test::slurp;
 
@@ -75,7 +69,7 @@ std::vector<double> last_ledger_row(const fs::path& csv) {
 }
 
 // Every file the serial run of `name` wrote is, byte for byte, the one each
-// run on `counts` processes wrote (fresh_dir(name), expect_equal_to_serial);
+// run on `counts` processes wrote (fresh_dir("parallel_" + name), expect_equal_to_serial);
 // returns how many files were compared.
 std::size_t expect_every_file_equal(const std::string& name, const std::vector<int>& counts) {
   const fs::path dir = fs::temp_directory_path() / ("suffuse_parallel_" + name);
@@ -95,7 +89,7 @@ std::size_t expect_every_file_equal(const std::string& name, const std::vector<i
 // Runs `scene` serially and on each process count; every run's checkpoint
 // must be the serial one, byte for byte.
 void expect_equal_to_serial(const std::string& name, const json& scene, const std::vector<int>& counts) {
-  const fs::path dir = fresh_dir(name);
+  const fs::path dir = fresh_dir("parallel_" + name);
   const fs::path file = write_scene(dir, name, scene);
   ASSERT_EQ(run(file, dir / "serial", 1), 0) << slurp(dir / "serial" / "log");
   const std::string serial = slurp(dir / "serial" / (name + ".checkpoint"));
@@ -238,7 +232,7 @@ TEST(Parallel, GimpBlock3DEqualsSerial) {
 // continued on two processes, ends where the serial run does, bit for bit,
 // and so does the first process's ledger CSV.
 TEST(Parallel, RestartOnOtherProcessCountsContinuesExactly) {
-  const fs::path dir = fresh_dir("restart");
+  const fs::path dir = fresh_dir("parallel_restart");
   json scene = scene_file("bench_suffusion_column");
   scene["time"]["dt"] = 8e-5;  // the first run ends on a step, not on a shortened one
   scene["time"]["end"] = 0.002;
@@ -379,7 +373,7 @@ TEST(Parallel, SortedPointsMoveBetweenProcessesAndEqualSerial) {
 // PETSc: its factorisation sums in another order than the serial run's.
 void expect_close_to_serial(const std::string& name, const json& scene, const std::vector<int>& counts,
                             double tolerance) {
-  const fs::path dir = fresh_dir(name);
+  const fs::path dir = fresh_dir("parallel_" + name);
   const fs::path file = write_scene(dir, name, scene);
   ASSERT_EQ(run(file, dir / "serial", 1), 0) << slurp(dir / "serial" / "log");
   const Checkpoint serial = read_checkpoint(dir / "serial" / (name + ".checkpoint"));
@@ -488,7 +482,7 @@ TEST(Parallel, QuasiStaticInertiaCloseToSerial) {
 // the forces did not balance and which points had no stiffness, counted and
 // bounded over every process: the serial run's words and numbers.
 TEST(Parallel, QuasiStaticFailureSaysWhatTheSerialRunSays) {
-  const fs::path dir = fresh_dir("no_equilibrium");
+  const fs::path dir = fresh_dir("parallel_no_equilibrium");
   json scene = quasi_static(scene_file("column_collapse_mc"), 0.1);
   scene.erase("mass_scaling");
   scene["time"].erase("mass_scaling");
@@ -564,7 +558,7 @@ TEST(Parallel, QuasiStaticLeveeReusesFactorsAsTheSerialRunDoes) {
 #else
 // Without PETSc quasi-static runs are refused on many processes, naming it.
 TEST(Parallel, RefusesQuasiStaticWithoutPetsc) {
-  const fs::path dir = fresh_dir("refused");
+  const fs::path dir = fresh_dir("parallel_refused");
   json qs = quasi_static(scene_file("terzaghi"), 0.01);
   qs["time"]["end"] = 0.05;
   const fs::path file = write_scene(dir, "quasi_static", qs);

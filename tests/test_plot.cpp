@@ -36,13 +36,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("suffuse_plot_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using suffuse::test::fresh_dir;
 
 void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
 
@@ -71,7 +65,7 @@ const char* decay =
     "3,0.6,1\n";
 
 TEST(Plot, WritesAPngOfTheRequestedSize) {
-  const fs::path dir = fresh_dir("png");
+  const fs::path dir = fresh_dir("plot_png");
   write(dir / "run.growth.csv", growth);
   write(dir / "run.decay.csv", decay);
   ASSERT_EQ(plot(dir, "--png chart.png --x time --y height --y 'width [m]' --title 'Two runs' --width 640 "
@@ -105,7 +99,7 @@ TEST(Plot, WritesAPngOfTheRequestedSize) {
 }
 
 TEST(Plot, UnknownColumnNamesTheAvailableOnes) {
-  const fs::path dir = fresh_dir("column");
+  const fs::path dir = fresh_dir("plot_column");
   write(dir / "growth.csv", growth);
   EXPECT_EQ(plot(dir, "--png chart.png --x time --y depth growth.csv"), 1);
   const std::string log = slurp(dir / "log.txt");
@@ -117,7 +111,7 @@ TEST(Plot, UnknownColumnNamesTheAvailableOnes) {
 }
 
 TEST(Plot, MissingFileFails) {
-  const fs::path dir = fresh_dir("missing");
+  const fs::path dir = fresh_dir("plot_missing");
   write(dir / "growth.csv", growth);
   EXPECT_EQ(plot(dir, "--png chart.png --x time --y height growth.csv absent.csv"), 1);
   const std::string log = slurp(dir / "log.txt");
@@ -126,7 +120,7 @@ TEST(Plot, MissingFileFails) {
 }
 
 TEST(Plot, BadCellsAndEmptyFilesFail) {
-  const fs::path dir = fresh_dir("bad");
+  const fs::path dir = fresh_dir("plot_bad");
   write(dir / "text.csv", "time [s],height [m]\n0,1\n1,tall\n");
   EXPECT_EQ(plot(dir, "--png chart.png --x time --y height text.csv"), 1);
   std::string log = slurp(dir / "log.txt");
@@ -239,7 +233,7 @@ std::string error_of(const std::function<void()>& f) {
 }
 
 TEST(PointSeries, ReadsThePointFramesByTimeAndSkipsOtherParts) {
-  const fs::path run = series_fixture::write_run(fresh_dir("series"));
+  const fs::path run = series_fixture::write_run(fresh_dir("plot_series"));
   for (const fs::path& path : {run, run / "run.pvd"}) {
     const PointSeries series = read_point_series(path);
     ASSERT_EQ(series.frames.size(), 3u);
@@ -254,7 +248,7 @@ TEST(PointSeries, ReadsThePointFramesByTimeAndSkipsOtherParts) {
 }
 
 TEST(PointSeries, NearestFrameAndTheRangeWhenOutside) {
-  const PointSeries series = read_point_series(series_fixture::write_run(fresh_dir("nearest")));
+  const PointSeries series = read_point_series(series_fixture::write_run(fresh_dir("plot_nearest")));
   EXPECT_EQ(nearest_frame(series, 0), 0u);
   EXPECT_EQ(nearest_frame(series, 1.2), 1u);
   EXPECT_EQ(nearest_frame(series, 1.8), 2u);
@@ -266,7 +260,7 @@ TEST(PointSeries, NearestFrameAndTheRangeWhenOutside) {
 }
 
 TEST(PointField, ScalarsComponentsMagnitudesAndUnits) {
-  const PointSeries series = read_point_series(series_fixture::write_run(fresh_dir("field")));
+  const PointSeries series = read_point_series(series_fixture::write_run(fresh_dir("plot_field")));
   const auto points = read_frame(series.frames[1]);
   const PointField phi = point_field(points, "porosity");
   EXPECT_EQ(phi.label, "porosity [-]");
@@ -292,7 +286,7 @@ TEST(PointField, ScalarsComponentsMagnitudesAndUnits) {
 }
 
 TEST(Profile, TakesThePointsWhoseBoxTheLineCrossesInOrder) {
-  const PointSeries series = read_point_series(series_fixture::write_run(fresh_dir("profile")));
+  const PointSeries series = read_point_series(series_fixture::write_run(fresh_dir("plot_profile")));
   const auto points = read_frame(series.frames[2]);
   const auto phi = point_field(points, "porosity");
   const auto sizes = point_sizes(points);
@@ -327,7 +321,7 @@ TEST(Profile, TakesThePointsWhoseBoxTheLineCrossesInOrder) {
 }
 
 TEST(Profile, CommandWritesOnePngPerField) {
-  const fs::path dir = fresh_dir("profile_png");
+  const fs::path dir = fresh_dir("plot_profile_png");
   series_fixture::write_run(dir);
   ASSERT_EQ(plot(dir, "profile --png column.png --field porosity --field velocity:y --from 0.15,0 --to 0.15,1 "
                       "--times 0,1.2,2.5 run"),
@@ -348,7 +342,7 @@ TEST(Profile, CommandWritesOnePngPerField) {
 }
 
 TEST(Profile, CommandErrorsWriteNothing) {
-  const fs::path dir = fresh_dir("profile_errors");
+  const fs::path dir = fresh_dir("plot_profile_errors");
   series_fixture::write_run(dir);
   struct Case {
     std::string args, message;
@@ -379,7 +373,7 @@ TEST(ColourMap, ViridisEnds) {
 }
 
 TEST(ColourMap, ColoursEachPointByItsValue) {
-  const fs::path dir = fresh_dir("map");
+  const fs::path dir = fresh_dir("plot_map");
   const fs::path run = series_fixture::write_run(dir);
   ASSERT_EQ(plot(dir, "map --png map.png --field porosity --time 2.5 --range 0.3 0.45 --width 400 --height 500 run"),
             0)
@@ -410,7 +404,7 @@ TEST(ColourMap, ColoursEachPointByItsValue) {
 }
 
 TEST(ColourMap, PanelsSizedFromTheBodyAndErrors) {
-  const fs::path dir = fresh_dir("map_panels");
+  const fs::path dir = fresh_dir("plot_map_panels");
   series_fixture::write_run(dir);
   ASSERT_EQ(plot(dir, "map --png map.png --field velocity:x --times 0,1,2.5 run/run.pvd"), 0) << slurp(dir / "log.txt");
   const auto layout = map_layout({0, 0.4, 0, 1}, 3, 0, 0);
@@ -428,7 +422,7 @@ TEST(ColourMap, PanelsSizedFromTheBodyAndErrors) {
 }
 
 TEST(ColourMap, SlicesOfA3DRun) {
-  const fs::path dir = fresh_dir("map_3d");
+  const fs::path dir = fresh_dir("plot_map_3d");
   const fs::path run = series_fixture::write_run(dir, 3);
   EXPECT_EQ(plot(dir, "map --png map.png --field porosity run"), 1);
   std::string log = slurp(dir / "log.txt");
@@ -466,14 +460,14 @@ TEST(ColourMap, SlicesOfA3DRun) {
   ASSERT_EQ(plot(dir, "animate --field porosity --slice y=0.5 --frames frames run"), 0) << slurp(dir / "log.txt");
 
   // A 2D run has no slice.
-  const fs::path flat = fresh_dir("map_2d_slice");
+  const fs::path flat = fresh_dir("plot_map_2d_slice");
   series_fixture::write_run(flat);
   EXPECT_EQ(plot(flat, "map --png map.png --field porosity --slice z=0 run"), 1);
   EXPECT_NE(slurp(flat / "log.txt").find("this run is 2D"), std::string::npos);
 }
 
 TEST(Animation, OneFramePerOutputAndALoopingGif) {
-  const fs::path dir = fresh_dir("animate");
+  const fs::path dir = fresh_dir("plot_animate");
   series_fixture::write_run(dir);
   ASSERT_EQ(plot(dir, "animate --field porosity --frames frames --gif porosity.gif run"), 0)
       << slurp(dir / "log.txt");
@@ -517,7 +511,7 @@ namespace {
 // The default scene for a moment, then its figures: the fields carry their
 // units, and the boxes come from the points' volumes.
 TEST(PointSeries, FiguresOfARealRun) {
-  const fs::path dir = fresh_dir("real_run");
+  const fs::path dir = fresh_dir("plot_real_run");
   auto scene = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
   scene["time"]["end"] = 0.3;
   scene["outputs"][0]["interval"] = 0.1;

@@ -19,11 +19,7 @@ using suffuse::test::read_json;
 using suffuse::test::scene_from;
 using suffuse::test::source_dir;
 
-std::string text(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
+using suffuse::test::text;
 
 using suffuse::test::terzaghi_pressure;
 

@@ -19,16 +19,11 @@
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
+using suffuse::test::fresh_dir;
 
 namespace {
 
 using suffuse::test::slurp;
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("suffuse_restart_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
 
 struct Case {
   const char* scene;
@@ -71,7 +66,7 @@ struct HalfwayRestart {
 
 HalfwayRestart restart_halfway(const suffuse::Scene& scene, suffuse::Registry& registry, double end) {
   HalfwayRestart r{std::make_unique<suffuse::Simulation>(scene, registry, 1), nullptr,
-                   fresh_dir(scene.name + "_a"), fresh_dir(scene.name + "_b"), {}};
+                   fresh_dir("restart_" + scene.name + "_a"), fresh_dir("restart_" + scene.name + "_b"), {}};
   suffuse::RunOptions options;
   options.output_dir = r.a_dir;
   options.checkpoint_interval = end / 2;
@@ -167,7 +162,7 @@ TEST_P(Extension, IsBitForBitTheRunGivenTheLaterEndFromTheStart) {
     sim->run(options);
     return sim;
   };
-  const fs::path extended = fresh_dir(name + "_extended"), whole = fresh_dir(name + "_whole");
+  const fs::path extended = fresh_dir("restart_" + name + "_extended"), whole = fresh_dir("restart_" + name + "_whole");
   run(first_end, extended, {});
   const fs::path checkpoint = extended / (name + ".checkpoint");
   ASSERT_LT(checkpoint_time(checkpoint), first_end) << "the premise: the first run's last step was shortened";
@@ -189,7 +184,7 @@ class RestartRefused : public ::testing::Test {
  protected:
   void SetUp() override {
     // One directory per test: ctest runs the tests of this fixture in parallel.
-    dir_ = fresh_dir(std::string("refused_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fresh_dir(std::string("restart_refused_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     j_ = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/suffusion_column.json");
     j_["time"]["end"] = 0.05;
     j_["outputs"] = nlohmann::json::array();
@@ -298,7 +293,7 @@ TEST(Checkpoint, WrittenWhereNothingElseIs) {
   scene.name = "bar";
   suffuse::Simulation sim(scene, registry, 1);
   suffuse::RunOptions options;
-  options.output_dir = fresh_dir("no_outputs") / "nested";
+  options.output_dir = fresh_dir("restart_no_outputs") / "nested";
   ASSERT_NO_THROW(sim.run(options));
   EXPECT_TRUE(fs::exists(options.output_dir / "bar.checkpoint"));
 }

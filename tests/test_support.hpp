@@ -79,6 +79,22 @@ inline nlohmann::json read_json(const std::filesystem::path& file) {
 
 inline std::filesystem::path source_dir() { return SUFFUSE_SOURCE_DIR; }
 
+// An empty directory temp/suffuse_<name>, the scratch space of one test: a
+// name per test, since ctest runs the tests of a file in parallel.
+inline std::filesystem::path fresh_dir(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("suffuse_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// A number as a scene's text gives it (the shortest form a stream writes).
+inline std::string text(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
 // The whole of a file, byte for byte (empty if it cannot be read).
 inline std::string slurp(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);

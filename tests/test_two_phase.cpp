@@ -31,11 +31,7 @@ double terzaghi_degree(double Tv) {
   return 1 - s;
 }
 
-std::string text(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
+using suffuse::test::text;
 
 // share/scenes/terzaghi.json: isochrones within 0.03 u_0 everywhere along the
 // column and degree of consolidation within 0.03 at T_v = 0.05, 0.2, 0.5, 1;
