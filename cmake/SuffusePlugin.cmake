@@ -5,7 +5,8 @@
 # independent, with hidden symbols except the entry point that
 # SUFFUSE_PLUGIN_LIBRARY exports. Outside the suffuse sources it is compiled
 # with the NDEBUG setting of the installed core (the loader refuses a debug
-# plugin in a release core and the reverse), whatever CMAKE_BUILD_TYPE says.
+# plugin in a release core and the reverse), whatever CMAKE_BUILD_TYPE says,
+# and, for a release core, at -O3 where no CMAKE_BUILD_TYPE is given.
 #
 # In the suffuse source tree the bundled plugins go next to the core and are
 # installed with it. In a third-party project (find_package(Suffuse)) the
@@ -25,6 +26,12 @@ function(suffuse_add_plugin name)
     # A third-party plugin: match the installed core, whatever CMAKE_BUILD_TYPE says.
     if(SUFFUSE_CORE_BUILD_TYPE STREQUAL "release")
       target_compile_definitions(${name} PRIVATE NDEBUG)
+      # Optimised as the core is when no build type is given (CMake's
+      # default then is no optimisation: the coupled-phase template's column
+      # ran nine times slower, 46 s instead of 5).
+      if(NOT CMAKE_BUILD_TYPE AND NOT CMAKE_CONFIGURATION_TYPES)
+        target_compile_options(${name} PRIVATE -O3)
+      endif()
     elseif(SUFFUSE_CORE_BUILD_TYPE STREQUAL "debug")
       target_compile_options(${name} PRIVATE -UNDEBUG)
     endif()

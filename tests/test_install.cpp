@@ -227,6 +227,9 @@ TEST(Install, CoupledPhaseTemplateBuildsAndItsColumnSettles) {
             0)
       << slurp(inst.root / "build.log");
   EXPECT_EQ(slurp(phase / "build/CMakeCache.txt").find(SUFFUSE_SOURCE_DIR), std::string::npos);
+  // Built without a build type, as the template says: optimised all the same.
+  EXPECT_NE(slurp(phase / "build/CMakeFiles/my_coupled_phase.dir/flags.make").find("-O3"), std::string::npos)
+      << slurp(phase / "build/CMakeFiles/my_coupled_phase.dir/flags.make");
   EXPECT_EQ(sh("ctest --test-dir " + (phase / "build").string() + " --output-on-failure", inst.root / "ctest.log"), 0)
       << slurp(inst.root / "ctest.log");
 
