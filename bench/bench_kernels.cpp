@@ -132,7 +132,7 @@ void p2g_two_phase(benchmark::State& state, const char* shape_name) {
   const std::vector<double> rho_w(s.n, 1000.0), conductivity(s.n, 1e-3);
   const SaturatedPoints pt{s.mass.data(),     s.volume.data(), s.velocity.data(), s.stress.data(),
                            s.porosity.data(), s.pressure.data(), s.velocity.data(), s.mass.data(),
-                           conductivity.data(), rho_w.data()};
+                           conductivity.data(), rho_w.data(), nullptr};
   const SaturatedNodes nodes{out[0].data(), out[1].data(), out[2].data(), out[3].data(),
                              out[4].data(), out[5].data(), out[6].data(), out[7].data()};
   const double g[D] = {0, -9.81};

@@ -132,7 +132,7 @@ struct Data {
   }
   SaturatedPoints saturated() const {
     return {mass.data(),       volume.data(), vel.data(),         stress.data(),       n.data(),
-            pressure.data(),   liquid_vel.data(), liquid_mass.data(), conductivity.data(), rho_w.data()};
+            pressure.data(),   liquid_vel.data(), liquid_mass.data(), conductivity.data(), rho_w.data(), nullptr};
   }
 };
 
@@ -248,7 +248,8 @@ struct PorousFields {
   }
   template <int D>
   PorousPoints points_of(const Data<D>& d) {
-    return {L.data(), d.mass.data(), d.vel.data(), d.liquid_vel.data(), n.data(), dn.data(), rate.data(), q.data()};
+    return {L.data(), d.mass.data(), d.vel.data(), d.liquid_vel.data(), n.data(), dn.data(), rate.data(), q.data(),
+            nullptr};
   }
 };
 

@@ -39,7 +39,7 @@ struct MaterialSpec {
   std::optional<PluginNode> base;          // the phase `phase` wraps, if its plugin wraps one
   std::optional<PluginNode> permeability;  // required when a saturated body uses it
   std::optional<PluginNode> erosion;       // an erosion law: the skeleton's fines can be washed out
-  std::optional<DrainageSpec> phreatic;    // its pores drain above the phreatic surface (quasi-static runs)
+  std::optional<DrainageSpec> phreatic;    // its pores drain above the phreatic surface
 };
 
 struct LiquidSpec {

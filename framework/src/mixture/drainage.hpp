@@ -55,6 +55,33 @@ struct Drainage {
     const double full = std::clamp(y0, lo, hi) - lo, from = std::max(lo, y0), to = std::max(hi, y0);
     return full + (std::atan(a * (to - y0)) - std::atan(a * (from - y0))) / a;
   }
+  // The water a pore volume holds, relative to its volume at psi = 0 and
+  // with the liquid's compressibility 1 / K_L: S(psi) + psi / K_L. Its slope,
+  // the storage per pore volume, is at least 1 / K_L: no stiffer than the
+  // water, also where the retention curve is flat (psi = 0).
+  double content(double psi, double bulk_modulus, double rho_w) const {
+    return saturation(psi, rho_w) + psi / bulk_modulus;
+  }
+  // Its inverse: the potential at which the pores hold `theta` (Newton's
+  // iterations kept in a bracket; the content increases with psi).
+  double potential_of_content(double theta, double bulk_modulus, double rho_w) const {
+    if (theta >= 1) return (theta - 1) * bulk_modulus;
+    // Below: psi < 0, above both the curve's own inverse (the water taken
+    // as incompressible) and the water's compression alone: each of those
+    // takes all of the deficit, which the two share.
+    const double drained = potential(0.0, std::clamp(theta, 1e-300, 1.0), rho_w);
+    const double compressed = (theta - 1) * bulk_modulus;
+    double lo = std::max(drained, compressed), hi = 0, psi = lo;
+    for (int i = 0; i < 60; ++i) {
+      const double f = content(psi, bulk_modulus, rho_w) - theta;
+      if (f > 0) hi = psi; else lo = psi;
+      const double next = psi - f / (capacity(psi, rho_w) + 1 / bulk_modulus);
+      const double step = next > lo && next < hi ? next : 0.5 * (lo + hi);
+      if (std::abs(step - psi) <= 1e-14 * std::abs(psi)) return step;
+      psi = step;
+    }
+    return psi;
+  }
   // psi of a point from its pore pressure and saturation (the fields it keeps).
   double potential(double pressure, double saturation, double rho_w) const {
     return saturation < 1 ? -pressure_scale(rho_w) * std::sqrt(1 / std::max(saturation, 1e-300) - 1) : pressure;

@@ -8,6 +8,7 @@
 #include "mpm/solid_kernels.hpp"
 #include "mpm/initial_values.hpp"
 #include "suffuse/error.hpp"
+#include "suffuse/grid_face.hpp"
 #include "mixture/drainage.hpp"
 #include "mixture/two_phase_kernels.hpp"
 
@@ -41,8 +42,16 @@ FieldInfo SaturatedMixture::saturation_field() {
           "degree of saturation S: 1 below the phreatic surface, less above it where the pores drained", true};
 }
 
+FieldInfo SaturatedMixture::potential_field() {
+  return {"water_potential", FieldKind::Scalar, "Pa",
+          "water potential psi: the pore pressure where the pores are full, below zero where they drained "
+          "(docs/phreatic.md)",
+          true};
+}
+
 SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry, Domain& domain,
-                                   const std::vector<const Phase*>& phases)
+                                   const std::vector<const Phase*>& phases,
+                                   const std::vector<std::unique_ptr<BoundaryCondition>>& conditions)
     : d_(domain), gravity_(scene.gravity), damping_(scene.damping), mass_scaling_(scene.mass_scaling), phases_(phases) {
   const int dim = scene.dim;
   for (const LiquidSpec& l : scene.liquids)
@@ -55,9 +64,18 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
     permeability_names_.push_back(m.permeability ? plugin_of_material("permeability law", *m.permeability, m.name)
                                                  : std::string());
     drainage_.push_back(m.phreatic);
+    drains_.push_back(m.phreatic ? std::optional<Drainage>(Drainage(*m.phreatic)) : std::nullopt);
   }
   f_ = register_fields(d_.points, fields_declared());
-  if (scene.phreatic()) f_.saturation = d_.points.add_field(saturation_field());
+  if (scene.phreatic()) {
+    f_.saturation = d_.points.add_field(saturation_field());
+    f_.potential = d_.points.add_field(potential_field());
+    for (const auto& condition : conditions)
+      for (const LiquidOpening& o : condition->liquid_openings())
+        for (const std::int64_t I : o.nodes.empty() ? face_nodes(d_.grid, o.face) : o.nodes)
+          open_nodes_.push_back({static_cast<std::size_t>(I), o.face.axis,
+                                 (o.face.upper ? 1.0 : -1.0) * face_node_area(d_.grid, o.face, I)});
+  }
   const std::size_t nn = d_.grid.node_count();
   for (auto* v : {&node_drag_, &node_pressure_rate_}) v->assign(nn, 0.0);
   node_darcy_.assign(nn * dim, 0.0);
@@ -79,13 +97,21 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b, con
     pts.data(f_.porosity)[p] = n;
     double pressure = initial.pore_pressure(p);
     if (body.water_table) pressure += rho_w * g * std::max(0.0, *body.water_table - x[p * dim + dim - 1]);
+    double S = 1;
     if (f_.saturation) {
       // Pores that drain hold, above the water table, what the retention
-      // curve gives at the hydrostatic potential there (none of it pressure).
-      double S = 1;
+      // curve gives at the hydrostatic potential there (none of it
+      // pressure), and that much of the liquid.
+      double psi = pressure;
       if (drains && body.water_table && x[p * dim + dim - 1] > *body.water_table)
-        S = Drainage(*drains).saturation(pressure - rho_w * g * (x[p * dim + dim - 1] - *body.water_table), rho_w);
-      pts.data(*f_.saturation)[p] = initial.saturation(p).value_or(S);
+        psi = pressure - rho_w * g * (x[p * dim + dim - 1] - *body.water_table);
+      if (const std::optional<double> given = initial.saturation(p); drains && given)
+        psi = Drainage(*drains).potential(pressure, *given, rho_w);
+      S = drains ? Drainage(*drains).saturation(psi, rho_w) : 1.0;
+      S = initial.saturation(p).value_or(S);
+      pts.data(*f_.saturation)[p] = S;
+      pts.data(*f_.potential)[p] = psi;
+      pressure = std::max(psi, 0.0);
     }
     pts.data(f_.pressure)[p] = pressure;
     pts.data(f_.bulk_modulus)[p] = liquid.bulk_modulus();
@@ -93,8 +119,8 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b, con
     pts.data(f_.grain_density)[p] = rho_s;
     pts.data(f_.water_density)[p] = rho_w;
     pts.data(f_.liquid_density)[p] = rho_l;
-    pts.data(f_.liquid_mass)[p] = pore * rho_l;
-    pts.data(f_.moving_liquid_mass)[p] = pore * rho_l;
+    pts.data(f_.liquid_mass)[p] = pore * S * rho_l;
+    pts.data(f_.moving_liquid_mass)[p] = pore * S * rho_l;
   }
   update_conductivity(b);
 }
@@ -119,15 +145,23 @@ double SaturatedMixture::stable_time_step(const BodySpec& body, const Phase& pha
 
 void SaturatedMixture::points_to_grid() {
   NodeState& n = d_.nodes;
+  const bool drains = f_.potential.has_value();
+  if (drains) prepare_drained_pores();  // (its own scatter, through block_)
   const int W = d_.dim() == 2 ? saturated_block<2> : saturated_block<3>;
   d_.clear_nodal(block_, static_cast<std::size_t>(W));
   PointSet& pts = d_.points;
   const auto& c = pts.core();
-  const SaturatedPoints pt{pts.data(c.mass),           pts.data(c.volume),
-                           pts.data(c.velocity),       pts.data(c.stress),
-                           pts.data(f_.porosity),      pts.data(f_.pressure),
-                           pts.data(f_.liquid_velocity), pts.data(f_.moving_liquid_mass),
-                           pts.data(f_.conductivity),  pts.data(f_.water_density)};
+  const SaturatedPoints pt{pts.data(c.mass),
+                           pts.data(c.volume),
+                           pts.data(c.velocity),
+                           pts.data(c.stress),
+                           drains ? wet_porosity_.data() : pts.data(f_.porosity),
+                           pts.data(f_.pressure),
+                           pts.data(f_.liquid_velocity),
+                           pts.data(f_.moving_liquid_mass),
+                           drains ? wet_conductivity_.data() : pts.data(f_.conductivity),
+                           pts.data(f_.water_density),
+                           drains ? suction_force_.data() : nullptr};
   const Interpolation& s = d_.shape;
   ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(block_);
@@ -142,6 +176,7 @@ void SaturatedMixture::points_to_grid() {
                              n.liquid_inertia.data(), node_drag_.data()};
   auto unpack = d_.dim() == 2 ? &unpack_saturated_block<2> : &unpack_saturated_block<3>;
   d_.for_nodes([&](int, std::size_t b, std::size_t e) { unpack(b, e, block_.data(), nodes); });
+  if (drains) add_suction_on_openings(n.liquid_force.data());
 }
 
 void SaturatedMixture::integrate_grid(double dt) {
@@ -219,10 +254,12 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
         node_darcy_[I * dim + i] = nI * (n.liquid_velocity[I * dim + i] - n.velocity[I * dim + i]);
     }
   });
+  if (f_.potential) close_free_surfaces();
   const PorousPoints porous{pts.data(c.velocity_gradient), pts.data(f_.bulk_modulus),
                             pts.data(c.velocity),          pts.data(f_.liquid_velocity),
                             pts.data(f_.porosity),         pts.data(f_.porosity_increment),
-                            pts.data(f_.pressure_rate),    pts.data(f_.darcy_flux)};
+                            pts.data(f_.pressure_rate),    pts.data(f_.darcy_flux),
+                            f_.saturation ? pts.data(*f_.saturation) : nullptr};
   d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
     std::size_t bad = e;
     d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
@@ -235,7 +272,12 @@ void SaturatedMixture::update_pore_pressure(double dt, std::size_t step, double 
   });
   // Pressure smoothing: the pore-pressure rate is averaged over the nodes and
   // interpolated back. Raw point rates carry the checkerboard modes of a
-  // nearly incompressible mixture on linear cells (as in Anura3D).
+  // nearly incompressible mixture on linear cells (as in Anura3D). Where
+  // pores drain, the potential's rate, from the water each point gained.
+  if (f_.potential) {
+    update_potential(dt);
+    return;
+  }
   d_.clear_nodal(block_, 2);
   ScatterTargets targets = s.targets(d_.grid.node_count());
   targets.add(block_);

@@ -12,28 +12,36 @@
 #include "mpm/domain.hpp"
 #include "mpm/momentum_balance.hpp"
 #include "mpm/point_fields.hpp"
+#include "mixture/drainage.hpp"
+#include "suffuse/boundary_condition.hpp"
 #include "suffuse/liquid.hpp"
 
 namespace suffuse::detail {
 
 class InitialValues;
+class StandingWaterLoad;
 
 // Ids of the mixture's point fields.
 struct MixtureFields {
   FieldId porosity, porosity_increment, pressure, pressure_rate, liquid_velocity, conductivity, darcy_flux,
       liquid_density, liquid_mass, moving_liquid_mass, bulk_modulus, grain_density, water_density;
-  std::optional<FieldId> saturation;  // in scenes whose pores drain above a phreatic surface (Scene::phreatic)
+  // In scenes whose pores drain above a phreatic surface (Scene::phreatic):
+  // the degree of saturation S and the water potential psi (drainage.hpp).
+  std::optional<FieldId> saturation, potential;
 };
 
 class SaturatedMixture final : public MomentumBalance {
  public:
   // The point fields it registers, for validation and for the constructor.
   static std::vector<FieldDeclaration<MixtureFields>> fields_declared();
-  // The degree of saturation, registered in scenes with a phreatic surface.
+  // The degree of saturation and the water potential, registered in scenes
+  // with a phreatic surface.
   static FieldInfo saturation_field();
+  static FieldInfo potential_field();
 
   SaturatedMixture(const Scene& scene, const Registry& registry, Domain& domain,
-                   const std::vector<const Phase*>& phases);
+                   const std::vector<const Phase*>& phases,
+                   const std::vector<std::unique_ptr<BoundaryCondition>>& conditions);
 
   // Saturated state of a body's points: porosity, pore pressure (uniform,
   // plus hydrostatic below a water table), liquid and its density (with the
@@ -51,6 +59,9 @@ class SaturatedMixture final : public MomentumBalance {
   // Stage "pore_pressure": nodal Darcy flux, porosity, Darcy flux at the
   // points, and the smoothed pore-pressure rate.
   void update_pore_pressure(double dt, std::size_t step, double time);
+  // Still water standing on the bodies (bc/water_level), if any: where
+  // pores drain, water enters a free surface only below it.
+  void set_standing_water(const StandingWaterLoad* water) { water_ = water; }
   // Stage "permeability": K follows the porosity.
   void update_permeability();
 
@@ -65,10 +76,26 @@ class SaturatedMixture final : public MomentumBalance {
 
  private:
   void update_conductivity(const BodyPoints& b);
+  // Where pores drain (drained_pores.cpp): the water's share of the pores,
+  // n S, and its conductivity, K k_r, per point, and the suction's force on
+  // the liquid, for the points-to-grid scatter.
+  void prepare_drained_pores();
+  // The suction's pull through the faces open to the liquid (a drain, a
+  // water table at the grid's face), which hold it at zero: added to the
+  // nodal liquid forces.
+  void add_suction_on_openings(double* liquid_force) const;
+  // No water enters a node from a neighbour without pores (outside the
+  // bodies), but where still water stands: the inward component of such a
+  // node's Darcy flux is taken as zero in the water's balance, as the
+  // transport's free surfaces let water out only.
+  void close_free_surfaces();
+  // The potential from the water the pores gained (drained_pores.hpp).
+  void update_potential(double dt);
 
   Domain& d_;
   std::array<double, 3> gravity_;
   std::vector<std::optional<DrainageSpec>> drainage_;  // per material
+  std::vector<std::optional<Drainage>> drains_;         // per material, in scenes with a phreatic surface
   double damping_, mass_scaling_;
   std::vector<const Phase*> phases_;  // per material
   std::vector<std::unique_ptr<Liquid>> liquids_;
@@ -77,6 +104,14 @@ class SaturatedMixture final : public MomentumBalance {
   MixtureFields f_{};
   std::vector<double> node_drag_, node_pressure_rate_, node_darcy_;
   std::vector<double> block_;  // a scatter's per-node sums (saturated_block, the remap's, the pressure rate's)
+  std::vector<double> wet_porosity_, wet_conductivity_, suction_force_, node_suction_;  // prepare_drained_pores
+  struct OpenNode {  // a node of a face open to the liquid: its number, axis, outward sign times area
+    std::size_t node;
+    int axis;
+    double outward_area;
+  };
+  std::vector<OpenNode> open_nodes_;  // in scenes with a phreatic surface
+  const StandingWaterLoad* water_ = nullptr;
 };
 
 }  // namespace suffuse::detail

@@ -27,9 +27,12 @@ struct SaturatedNodes {
   double* drag;             // sum N n rho_w g_ref V / K
 };
 
+// Where pores drain (drained_pores.hpp), `porosity` is the water's share n S,
+// `conductivity` K k_r, and `liquid_force` (D per point, else null) the
+// suction's force on the liquid.
 struct SaturatedPoints {
   const double *mass, *volume, *velocity, *stress, *porosity, *pressure, *liquid_velocity, *liquid_mass,
-      *conductivity, *water_density;
+      *conductivity, *water_density, *liquid_force;
 };
 
 // Points to grid, saturated: a node's sums in one block of
@@ -70,7 +73,7 @@ template <int D, int L = 2>
       a[4 + i] = scale * ms * pt.velocity[p * D + i];
       a[4 + D + i] = scale * ml * pt.liquid_velocity[p * D + i];
       a[inertial + i] = mixture * g[i];
-      a[inertial + D + i] = rho_l_V * g[i];
+      a[inertial + D + i] = pt.liquid_force ? rho_l_V * g[i] + pt.liquid_force[p * D + i] : rho_l_V * g[i];
       for (int j = 0; j < D; ++j) {
         B[j][inertial + i] = (i == j ? Vp : 0.0) - V * pt.stress[p * 6 + voigt_index(i, j)];
         B[j][inertial + D + i] = i == j ? Vp_liquid : 0.0;
@@ -177,6 +180,7 @@ struct PorousPoints {
   double* porosity_increment;
   double* pressure_rate;
   double* darcy;                    // D per point
+  const double* saturation;         // S where pores drain (drained_pores.hpp), else null
 };
 
 // After the skeleton's velocity gradient L (field) and volume are updated:
@@ -208,13 +212,17 @@ template <int D, int L = 2>
     const T n0 = load_at<T>(pt.porosity + p), div_q = load_at<T>(pt.pressure_rate + p);
     const auto dry = n0 <= T{};  // a NaN porosity is not dry: it fails below
     const T n = 1.0 - (1.0 - n0) / J;  // incompressible grains: solid volume is conserved
-    store_at(pt.pressure_rate + p, pick(dry, T{}, -load_at<T>(pt.bulk_modulus + p) / n0 * (div_s + div_q)));
+    // Where pores drain, the rate of the water's volume, -(S div v_s + div q):
+    // g2p_potential turns it into the potential's through each point's storage.
+    const T S = pt.saturation ? load_at<T>(pt.saturation + p) : splat<T>(1.0);
+    const T rate = pt.saturation ? -(S * div_s + div_q) : -load_at<T>(pt.bulk_modulus + p) / n0 * (div_s + div_q);
+    store_at(pt.pressure_rate + p, pick(dry, T{}, rate));
     store_at(pt.porosity + p, pick(dry, n0, n));
     store_at(pt.porosity_increment + p, pick(dry, T{}, n - n0));  // erosion adds its share later in the step
     for (int i = 0; i < D; ++i) {
       double* q = pt.darcy + p * D + i;
       const T relative = load_at<T, D>(pt.liquid_velocity + p * D + i) - load_at<T, D>(pt.solid_velocity + p * D + i);
-      store_at<T, D>(q, pick(dry, load_at<T, D>(q), n * relative));
+      store_at<T, D>(q, pick(dry, load_at<T, D>(q), n * S * relative));
     }
     const T checked = pick(dry, splat<T>(1.0), n);  // fails !(n > 0), NaN too
     failed = any_lane(checked <= T{}) || any_lane(checked != checked) || failed;

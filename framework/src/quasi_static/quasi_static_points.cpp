@@ -60,6 +60,7 @@ void QuasiStatic::update_points(double dt) {
   const double* V = pts.data(c.volume);
   const auto& g = scene_.gravity;
   double* saturation = phreatic_ ? pts.data(*mf.saturation) : nullptr;
+  double* potential = phreatic_ ? pts.data(*mf.potential) : nullptr;
   const double* material = pts.data(c.material_id);
   std::vector<double>& node_q = mixture_->nodal_darcy_flux();
   std::fill(node_q.begin(), node_q.end(), 0.0);
@@ -75,6 +76,7 @@ void QuasiStatic::update_points(double dt) {
     // Where the pores drain, pp is the potential psi: the pressure is its
     // positive part, and the saturation and conductivity follow it.
     double k_r = 1;
+    if (potential) potential[p] = pp;
     if (const std::optional<Drainage>* drains = phreatic_ ? &drainage_[static_cast<std::size_t>(material[p])] : nullptr;
         drains && *drains) {
       saturation[p] = (*drains)->saturation(pp, rho_w[p]);
@@ -125,7 +127,7 @@ void QuasiStatic::update_points(double dt) {
     }
     for (int i = 0; i < dim; ++i) {
       q[p * dim + i] = qp[i];
-      vl[p * dim + i] = v[p * dim + i] + qp[i] / n[p];
+      vl[p * dim + i] = v[p * dim + i] + qp[i] / (saturation ? n[p] * saturation[p] : n[p]);  // the water's pores
     }
   }
 }

@@ -36,12 +36,8 @@ void QuasiStatic::prepare(double time, double dt) {
   const double* material = pts.data(c.material_id);
   if (phreatic_) {
     drains_.assign(nn, 0.0);
-    const double* rho_w = pts.data(mixture_->fields().water_density);
-    potential_.assign(pts.size(), 0.0);
-    for (std::size_t p = 0; p < pts.size(); ++p) {
-      const auto& drains = drainage_[static_cast<std::size_t>(material[p])];
-      potential_[p] = drains ? drains->potential(pressure[p], saturation[p], rho_w[p]) : pressure[p];
-    }
+    const auto psi = pts.values(*mixture_->fields().potential);
+    potential_.assign(psi.begin(), psi.end());
   }
 
   // Nodal masses (gravity), pore volumes and the old pressures projected.
@@ -62,7 +58,7 @@ void QuasiStatic::prepare(double time, double dt) {
   }
   for (std::size_t p = 0; p < pts.size(); ++p) {
     const bool wet = n && n[p] > 0;
-    const double weight = m[p] + (wet ? (saturation ? saturation[p] * moving[p] : moving[p]) : 0.0);
+    const double weight = m[p] + (wet ? moving[p] : 0.0);  // n S rho_L V where pores drain
     for (int a = 0; a < s.npp; ++a) {
       const std::size_t k = p * s.npp + a;
       const std::int64_t I = s.ids[k];

@@ -90,7 +90,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   refuse_what_one_process_only_runs();
   // Every part registers its point fields before the phases look theirs up.
   if (scene.saturated()) {
-    mixture_ = std::make_unique<detail::SaturatedMixture>(scene, registry, *domain_, materials_->phases());
+    mixture_ = std::make_unique<detail::SaturatedMixture>(scene, registry, *domain_, materials_->phases(), bcs_);
     species_ = std::make_unique<detail::SpeciesTransport>(scene, registry, *domain_, *mixture_, bcs_);
     momentum_ = mixture_.get();
   }
@@ -305,6 +305,7 @@ void Simulation::refuse_or_keep_standing_water() {
                 "\"liquid\", found dry bodies only");
   water_ = std::move(water);
   species_->set_standing_water(water_.get());
+  mixture_->set_standing_water(water_.get());
 }
 
 void Simulation::apply_loads(NodeState& nodes, double time) {

@@ -15,8 +15,8 @@ std::vector<ProvidedField> point_fields_of(const Scene& scene, const Registry& r
   const bool saturated = scene.saturated();
   for (const auto& f : SaturatedMixture::fields_declared())
     fields.push_back({f.info.name, "the saturated mixture, when a body has a \"liquid\"", saturated});
-  fields.push_back({SaturatedMixture::saturation_field().name,
-                    "the saturated mixture, when a material has \"phreatic\"", saturated && scene.phreatic()});
+  for (const FieldInfo& f : {SaturatedMixture::saturation_field(), SaturatedMixture::potential_field()})
+    fields.push_back({f.name, "the saturated mixture, when a material has \"phreatic\"", saturated && scene.phreatic()});
   // Whether fines are tracked depends on what the inlets bring: ask the
   // boundary conditions (their constructors only read parameters).
   std::vector<LiquidOpening> openings;

@@ -39,14 +39,6 @@ void read_failure(SceneReader& r, Scene& scene) {
       r.error(ptr + "/" + key, "a control of a collapse that does not follow",
               "/failure/collapse, the seconds of explicit dynamics after the failure", "no /failure/collapse",
               "core (failure)");
-  // Pores that drain above a phreatic surface are the quasi-static step's
-  // alone (docs/phreatic.md): an explicit run would fill them at once.
-  for (const MaterialSpec& material : scene.materials)
-    if (spec.collapse && material.phreatic)
-      r.error(ptr + "/collapse", "a collapse of a body whose pores drain",
-              "materials without \"phreatic\" (pores that drain above the phreatic surface are not yet in "
-              "explicit runs, docs/phreatic.md)",
-              "\"phreatic\" in /materials/" + material.name, "core (failure)");
   if (scene.integration != TimeIntegration::quasi_static)
     r.error(ptr, "a failure criterion in an explicit run",
             "\"integration\": \"quasi_static\" in /time (a failure is an equilibrium lost, or a factor of safety "

@@ -16,15 +16,8 @@ ParameterSchema phreatic_schema() {
   return s;
 }
 
-void read_phreatic(SceneReader& r, const Json& node, const std::string& ptr, const Scene& scene, MaterialSpec& m) {
+void read_phreatic(SceneReader& r, const Json& node, const std::string& ptr, MaterialSpec& m) {
   const Parameters p = validate_object(node, phreatic_schema(), ptr, "core (material)", r.dim, r.diags);
-  if (scene.integration != TimeIntegration::quasi_static) {
-    r.error(ptr, "a phreatic surface in an explicit run",
-            "a quasi-static run (/time/integration \"quasi_static\"): pores that drain above the phreatic surface are "
-            "not yet in explicit runs (docs/phreatic.md)",
-            "\"explicit\" (/time/integration)", "core (material)");
-    return;
-  }
   DrainageSpec d;
   if (p.has("drainage_head")) d.drainage_head = p.number("drainage_head");
   if (p.has("residual_conductivity")) d.residual_conductivity = p.number("residual_conductivity");
@@ -47,7 +40,7 @@ void read_materials(SceneReader& r, Scene& scene) {
       m.permeability = r.plugin_node(node["permeability"], ptr + "/permeability", PluginKind::PermeabilityLaw);
     if (node.is_object() && node.contains("erosion"))
       m.erosion = r.plugin_node(node["erosion"], ptr + "/erosion", PluginKind::ErosionLaw);
-    if (node.is_object() && node.contains("phreatic")) read_phreatic(r, node["phreatic"], ptr + "/phreatic", scene, m);
+    if (node.is_object() && node.contains("phreatic")) read_phreatic(r, node["phreatic"], ptr + "/phreatic", m);
     scene.materials.push_back(std::move(m));
   }
 }
@@ -93,8 +86,8 @@ void read_phase(SceneReader& r, const Json& node, const std::string& ptr, std::s
 SceneSection materials_section() {
   return {"materials", "phreatic",
           "A material's optional \"phreatic\" node (/materials/NAME/phreatic, beside its phase's parameters, "
-          "\"permeability\" and \"erosion\"): its pores drain above the phreatic surface, in quasi-static runs "
-          "(docs/phreatic.md)",
+          "\"permeability\" and \"erosion\"): its pores drain above the phreatic surface, in explicit and "
+          "quasi-static runs (docs/phreatic.md)",
           phreatic_schema, read_materials};
 }
 

@@ -93,12 +93,13 @@ void SpeciesTransport::initialise(const BodySpec& body, const BodyPoints& b, con
   const double* n = pts.data(m_.porosity);
   const double* rho_s = pts.data(m_.grain_density);
   const double* ml = pts.data(m_.liquid_mass);
+  const double* S = m_.saturation ? pts.data(*m_.saturation) : nullptr;  // pores that drain hold less
   for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
     // A body's initial liquid carries fines (all of it) or none.
     pts.data(f.carrying_liquid)[p] = body.concentration > 0 ? ml[p] : 0.0;
     const double fc = initial.fines_content(p);
     pts.data(f.skeleton_fines)[p] = fc * ms[p];
-    pts.data(f.suspended_fines)[p] = body.concentration * rho_s[p] * n[p] * V[p];
+    pts.data(f.suspended_fines)[p] = body.concentration * rho_s[p] * n[p] * V[p] * (m_.saturation ? S[p] : 1.0);
     pts.data(f.fines_content)[p] = fc;
     pts.data(f.ultimate_fines_content)[p] = body.ultimate_fines_content;
     pts.data(f.concentration)[p] = body.concentration;
@@ -338,6 +339,18 @@ void SpeciesTransport::set_standing_water(const StandingWaterLoad* water) {
   node_free_water_in_.assign(d_.grid.node_count(), 0.0);
 }
 
+const double* SpeciesTransport::water_filled_porosity() {
+  const PointSet& pts = d_.points;
+  if (!m_.saturation) return pts.data(m_.porosity);
+  const double* n = pts.data(m_.porosity);
+  const double* S = pts.data(*m_.saturation);
+  water_filled_.resize(pts.size());
+  d_.exec.for_chunks(pts.size(), [&](int, std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) water_filled_[p] = n[p] * S[p];
+  });
+  return water_filled_.data();
+}
+
 void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   if (water_) {  // the nodes still water stands above, this step
     const WaterProfile& water = water_->current();
@@ -351,7 +364,7 @@ void SpeciesTransport::transport(double dt, TransportScheme scheme) {
   }
   PointSet& pts = d_.points;
   const double* V = pts.data(pts.core().volume);
-  const double* n = pts.data(m_.porosity);
+  const double* n = water_filled_porosity();
   const Interpolation& s = d_.shape;
   d_.clear_nodal(species_block_, species_block);
   ScatterTargets targets = s.targets(d_.grid.node_count());

@@ -122,6 +122,11 @@ class SpeciesTransport {
                  std::array<double, 4>& account);
   // The backward-Euler step (species_transport_implicit.cpp), same outputs.
   void implicit_stage(double dt);
+  // The pore volume the liquid fills, per unit volume, per point: n, or
+  // n S where pores drain above the phreatic surface (docs/phreatic.md),
+  // so that the liquid moves with the Darcy flux through the water-filled
+  // pores and a drained point's liquid weighs what its pores hold.
+  const double* water_filled_porosity();
 
   Domain& d_;
   const MixtureFields& m_;
@@ -158,6 +163,7 @@ class SpeciesTransport {
   // Per node, the scatter's sums (species_block) and the change shared per
   // amount held and per pore volume (share_block, g2p_share).
   std::vector<double> species_block_, share_block_;
+  std::vector<double> water_filled_;  // n S per point, where pores drain (water_filled_porosity)
   std::unique_ptr<DistributedSystem> implicit_system_;  // the backward-Euler step's, on many processes
   // Still water on the bodies (set_standing_water): per node, whether it
   // stands above it this step, and the clean water each node took in
