@@ -167,8 +167,10 @@ void SaturatedMixture::points_to_grid() {
   targets.add(block_);
   d_.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-      p2g_saturated<D, L>(b, e, s.view(), pt, gravity_.data(),
-                          mass_scaling_, out[0]);
+      if (drains)
+        p2g_saturated<D, L, true>(b, e, s.view(), pt, gravity_.data(), mass_scaling_, out[0]);
+      else
+        p2g_saturated<D, L>(b, e, s.view(), pt, gravity_.data(), mass_scaling_, out[0]);
     });
   });
   const SaturatedNodes nodes{n.mass.data(),         n.momentum.data(),     n.force.data(),

@@ -42,7 +42,9 @@ struct SaturatedPoints {
 template <int D>
 inline constexpr int saturated_block = 4 + 4 * D;
 
-template <int D, int L = 2>
+// Suction: the points carry a liquid force (pt.liquid_force), chosen once
+// per scatter so that saturated runs keep the loop without it.
+template <int D, int L = 2, bool Suction = false>
 [[gnu::always_inline]] inline void p2g_saturated(std::size_t begin, std::size_t end, const PointSupports& s,
                    const SaturatedPoints& pt, const double* g, double scale,
                    double* __restrict block) {
@@ -73,7 +75,10 @@ template <int D, int L = 2>
       a[4 + i] = scale * ms * pt.velocity[p * D + i];
       a[4 + D + i] = scale * ml * pt.liquid_velocity[p * D + i];
       a[inertial + i] = mixture * g[i];
-      a[inertial + D + i] = pt.liquid_force ? rho_l_V * g[i] + pt.liquid_force[p * D + i] : rho_l_V * g[i];
+      if constexpr (Suction)
+        a[inertial + D + i] = rho_l_V * g[i] + pt.liquid_force[p * D + i];
+      else
+        a[inertial + D + i] = rho_l_V * g[i];
       for (int j = 0; j < D; ++j) {
         B[j][inertial + i] = (i == j ? Vp : 0.0) - V * pt.stress[p * 6 + voigt_index(i, j)];
         B[j][inertial + D + i] = i == j ? Vp_liquid : 0.0;
