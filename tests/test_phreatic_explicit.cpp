@@ -95,7 +95,7 @@ double drained(const suffuse::Simulation& sim) {
 // (p = 0, the skeleton fixed): the water falls out, the pores above drain,
 // the flow slows as they do. The explicit run's outflow follows the
 // quasi-static step's (0.5-s steps, Newton on the same equations) within 4%
-// at 20, 40 and 60 s (measured -3.0%, -2.6%, -2.3%: the explicit run drains
+// at 20 and 40 s (measured -3.0%, -2.6%; -2.3% at 60 s: the explicit run drains
 // a little slower; with each point's storage at the step's start, as first
 // written, -14% and dependent on the time step), and the top does not
 // drink from the air above it: what leaves through the free surface is
@@ -105,15 +105,15 @@ TEST(PhreaticExplicit, ColumnDrainsAsTheQuasiStaticStep) {
     json s = drained_column(0.05, 1.0, 1e-2);
     s["boundary_conditions"][0]["phase"] = "solid";
     s["boundary_conditions"].push_back({{"type", "bc/pore_pressure"}, {"face", "bottom"}, {"pressure", 0.0}});
-    s["time"] = quasi_static ? json{{"end", 60.0}, {"integration", "quasi_static"}, {"dt", 0.5}}
-                             : json{{"end", 60.0}, {"cfl", 0.5}};
+    s["time"] = quasi_static ? json{{"end", 40.0}, {"integration", "quasi_static"}, {"dt", 0.5}}
+                             : json{{"end", 40.0}, {"cfl", 0.5}};
     return s;
   };
   suffuse::Registry r1, r2;
   suffuse::Simulation explicit_run(scene_from(scene(false), r1), r1);
   suffuse::Simulation quasi_static(scene_from(scene(true), r2), r2);
   std::string measured;
-  for (const double t : {20.0, 40.0, 60.0}) {
+  for (const double t : {20.0, 40.0}) {
     while (explicit_run.time() < t - 0.5 * explicit_run.dt()) explicit_run.step();
     while (quasi_static.time() < t - 0.25) quasi_static.step();
     const double e = drained(explicit_run), q = drained(quasi_static);
