@@ -135,25 +135,10 @@ TEST(Parallel, DefaultColumnAndEveryOutputEqualSerial) {
 // closed to inflow and the drain's hold on the suction read nodes other
 // processes' points reach: every file is the serial run's.
 TEST(Parallel, DrainingColumnEqualsSerial) {
-  json scene = json::parse(R"({
-    "dimension": 2, "gravity": [0.0, -9.81], "damping": 0.0,
-    "grid": { "origin": [0.0, 0.0], "cell_size": [0.05, 0.05], "cells": [2, 22] },
-    "shape_function": { "type": "shape/linear" },
-    "materials": {
-      "sand": { "type": "phase/linear_elastic", "density": 2650.0, "youngs_modulus": 1.0e7, "poisson_ratio": 0.3,
-                "permeability": { "type": "permeability/constant", "hydraulic_conductivity": 1.0e-2 },
-                "phreatic": { "drainage_head": 0.05 } } },
-    "liquids": { "water": { "type": "phase/pore_liquid", "density": 1000.0, "bulk_modulus": 1.0e7 } },
-    "bodies": [ { "name": "column", "material": "sand", "liquid": "water", "porosity": 0.3, "k0": 0.5,
-                  "water_table": 0.7, "min": [0.0, 0.0], "max": [0.1, 1.0], "points_per_cell": 2 } ],
-    "boundary_conditions": [
-      { "type": "bc/velocity", "face": "bottom", "vx": 0.0, "vy": 0.0, "phase": "solid" },
-      { "type": "bc/velocity", "face": "left", "vx": 0.0 },
-      { "type": "bc/velocity", "face": "right", "vx": 0.0 },
-      { "type": "bc/pore_pressure", "face": "bottom", "pressure": 0.0 } ],
-    "time": { "end": 1.0, "cfl": 0.5 },
-    "outputs": [ { "type": "writer/vtk_particles", "interval": 0.5 } ]
-  })");
+  json scene = suffuse::test::draining_column(0.1, 1e-2);
+  scene["bodies"][0]["water_table"] = 0.7;
+  scene["time"]["end"] = 1.0;
+  scene["outputs"] = {{{"type", "writer/vtk_particles"}, {"interval", 0.5}}};
   expect_equal_to_serial("draining_column", scene, {2, 3});
   EXPECT_GE(expect_every_file_equal("draining_column", {2, 3}), 5u) << "checkpoint, ledger, .pvd, 3 frames";
 }

@@ -14,37 +14,8 @@
 namespace {
 
 using nlohmann::json;
+using suffuse::test::drained_column;
 using suffuse::test::scene_from;
-
-// A sand column 1 m high, `width` wide, on a fixed base between smooth
-// walls; its pores drain above a water table at `table` (h_d = 0.05 m).
-// Water at 1e7 Pa and a stiffness of 10 MPa keep the explicit step near
-// 1.7e-4 s.
-json drained_column(double width, double table, double conductivity) {
-  json scene = json::parse(R"({
-    "dimension": 2, "gravity": [0.0, -9.81], "damping": 0.0,
-    "grid": { "origin": [0.0, 0.0], "cell_size": [0.05, 0.05], "cells": [2, 22] },
-    "shape_function": { "type": "shape/linear" },
-    "materials": {
-      "sand": { "type": "phase/linear_elastic", "density": 2650.0, "youngs_modulus": 1.0e7, "poisson_ratio": 0.3,
-                "permeability": { "type": "permeability/constant", "hydraulic_conductivity": 1.0e-3 },
-                "phreatic": { "drainage_head": 0.05, "residual_conductivity": 1.0e-3 } } },
-    "liquids": { "water": { "type": "phase/pore_liquid", "density": 1000.0, "bulk_modulus": 1.0e7 } },
-    "bodies": [ { "name": "column", "material": "sand", "liquid": "water", "porosity": 0.3, "k0": 0.5,
-                  "min": [0.0, 0.0], "max": [0.1, 1.0], "points_per_cell": 2 } ],
-    "boundary_conditions": [
-      { "type": "bc/velocity", "face": "bottom", "vx": 0.0, "vy": 0.0 },
-      { "type": "bc/velocity", "face": "left", "vx": 0.0 },
-      { "type": "bc/velocity", "face": "right", "vx": 0.0 } ],
-    "time": { "end": 2.0, "cfl": 0.5 },
-    "outputs": []
-  })");
-  scene["grid"]["cells"][0] = static_cast<int>(std::lround(width / 0.05));
-  scene["bodies"][0]["max"][0] = width;
-  scene["bodies"][0]["water_table"] = table;
-  scene["materials"]["sand"]["permeability"]["hydraulic_conductivity"] = conductivity;
-  return scene;
-}
 
 // Above its water table the column holds water by suction, psi =
 // -gamma_w (y - table), and its pores the retention curve's share of it,
@@ -102,9 +73,7 @@ double drained(const suffuse::Simulation& sim) {
 // below 1% of what left through the drain.
 TEST(PhreaticExplicit, ColumnDrainsAsTheQuasiStaticStep) {
   auto scene = [](bool quasi_static) {
-    json s = drained_column(0.05, 1.0, 1e-2);
-    s["boundary_conditions"][0]["phase"] = "solid";
-    s["boundary_conditions"].push_back({{"type", "bc/pore_pressure"}, {"face", "bottom"}, {"pressure", 0.0}});
+    json s = suffuse::test::draining_column(0.05, 1e-2);
     s["time"] = quasi_static ? json{{"end", 40.0}, {"integration", "quasi_static"}, {"dt", 0.5}}
                              : json{{"end", 40.0}, {"cfl", 0.5}};
     return s;
