@@ -66,11 +66,12 @@ double drained(const suffuse::Simulation& sim) {
 // (p = 0, the skeleton fixed): the water falls out, the pores above drain,
 // the flow slows as they do. The explicit run's outflow follows the
 // quasi-static step's (0.5-s steps, Newton on the same equations) within 4%
-// at 20 and 40 s (measured -3.0%, -2.6%; -2.3% at 60 s: the explicit run drains
-// a little slower; with each point's storage at the step's start, as first
-// written, -14% and dependent on the time step), and the top does not
-// drink from the air above it: what leaves through the free surface is
-// below 1% of what left through the drain.
+// at 20 and 40 s (measured -2.8%, -2.5%, and -2.8% at 20 s two cells wide
+// and in 3D: the explicit run drains a little slower; with each point's
+// storage at the step's start, as first written, -14% and dependent on the
+// time step), and the top neither drinks from the air above it nor lets
+// out the water its suction pulls up: what leaves through the free surface
+// is below 1% of what left through the drain.
 TEST(PhreaticExplicit, ColumnDrainsAsTheQuasiStaticStep) {
   auto scene = [](bool quasi_static) {
     json s = suffuse::test::draining_column(0.05, 1e-2);

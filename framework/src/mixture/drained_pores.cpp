@@ -67,16 +67,20 @@ void SaturatedMixture::close_free_surfaces() {
     for (std::size_t I = b; I < e; ++I) {
       if (!(n.liquid_inertia[I] > 0)) continue;
       const auto i = static_cast<std::int64_t>(I);
+      bool submerged = false;  // still water stands above it
       if (water) {
         const auto x = d_.grid.node_position(i);
-        if (x[static_cast<std::size_t>(dim - 1)] < water->level(x[0]).first) continue;  // water stands above it
+        submerged = x[static_cast<std::size_t>(dim - 1)] < water->level(x[0]).first;
       }
       const std::array<int, 3> c = d_.grid.node_ijk(i);
+      const bool drained = node_suction_[I] < 0;  // water leaves a surface only where its pores are full
       for (int a = 0; a < dim; ++a) {
         double& q = node_darcy_[I * static_cast<std::size_t>(dim) + static_cast<std::size_t>(a)];
         const bool empty_below = c[a] > 0 && !(n.liquid_inertia[static_cast<std::size_t>(i - stride[a])] > 0);
         const bool empty_above = c[a] < nodes[a] - 1 && !(n.liquid_inertia[static_cast<std::size_t>(i + stride[a])] > 0);
-        if ((q > 0 && empty_below) || (q < 0 && empty_above)) q = 0;
+        const bool in = (q > 0 && empty_below) || (q < 0 && empty_above);
+        const bool out = (q < 0 && empty_below) || (q > 0 && empty_above);
+        if ((in && !submerged) || (out && drained)) q = 0;
       }
     }
   });

@@ -77,8 +77,13 @@ void potential_rate(std::size_t begin, std::size_t end, double dt, const Drains*
     if (n <= 0) continue;  // dry points: no pore pressure
     const auto& d = drains[static_cast<std::size_t>(pt.material[p])];
     const double psi = pt.potential[p], K = pt.bulk_modulus[p], gain = pt.rate[p] * dt / n;
-    const double next = d ? d->potential_of_content(d->content(psi, K, pt.water_density[p]) + gain, K, pt.water_density[p])
-                          : psi + gain * K;
+    double next = psi + gain * K;
+    if (d) {
+      // A step takes at most half of what drained pores hold: where little
+      // water is left, the explicit balance would take more than there is.
+      const double held = d->content(psi, K, pt.water_density[p]);
+      next = d->potential_of_content(std::max(held + gain, held < 1 ? 0.5 * held : -1.0), K, pt.water_density[p]);
+    }
     pt.rate[p] = (next - psi) / dt;
   }
 }

@@ -85,9 +85,10 @@ class SaturatedMixture final : public MomentumBalance {
   // nodal liquid forces.
   void add_suction_on_openings(double* liquid_force) const;
   // No water enters a node from a neighbour without pores (outside the
-  // bodies), but where still water stands: the inward component of such a
-  // node's Darcy flux is taken as zero in the water's balance, as the
-  // transport's free surfaces let water out only.
+  // bodies), but where still water stands, and none leaves to it where the
+  // node's pores drained (a seepage face is saturated): such components of
+  // the node's Darcy flux are taken as zero in the water's balance and in
+  // the transport.
   void close_free_surfaces();
   // The potential from the water the pores gained (drained_pores.hpp).
   void update_potential(double dt);
