@@ -63,7 +63,6 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
                                            : nullptr);
     permeability_names_.push_back(m.permeability ? plugin_of_material("permeability law", *m.permeability, m.name)
                                                  : std::string());
-    drainage_.push_back(m.phreatic);
     drains_.push_back(m.phreatic ? std::optional<Drainage>(Drainage(*m.phreatic)) : std::nullopt);
   }
   f_ = register_fields(d_.points, fields_declared());
@@ -91,7 +90,7 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b, con
   const double* V = pts.data(pts.core().volume);
   const double* x = pts.data(pts.core().position);
   const double g = -gravity_[dim - 1];  // along the vertical (last) axis, downward
-  const std::optional<DrainageSpec>& drains = drainage_[body.material];
+  const std::optional<Drainage>& drains = drains_[body.material];
   for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
     const double n = initial.porosity(p), pore = n * V[p];
     pts.data(f_.porosity)[p] = n;
@@ -105,10 +104,9 @@ void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b, con
       double psi = pressure;
       if (drains && body.water_table && x[p * dim + dim - 1] > *body.water_table)
         psi = pressure - rho_w * g * (x[p * dim + dim - 1] - *body.water_table);
-      if (const std::optional<double> given = initial.saturation(p); drains && given)
-        psi = Drainage(*drains).potential(pressure, *given, rho_w);
-      S = drains ? Drainage(*drains).saturation(psi, rho_w) : 1.0;
-      S = initial.saturation(p).value_or(S);
+      const std::optional<double> given = initial.saturation(p);
+      if (drains && given) psi = drains->potential(pressure, *given, rho_w);
+      S = given.value_or(drains ? drains->saturation(psi, rho_w) : 1.0);
       pts.data(*f_.saturation)[p] = S;
       pts.data(*f_.potential)[p] = psi;
       pressure = std::max(psi, 0.0);

@@ -95,8 +95,7 @@ class SaturatedMixture final : public MomentumBalance {
 
   Domain& d_;
   std::array<double, 3> gravity_;
-  std::vector<std::optional<DrainageSpec>> drainage_;  // per material
-  std::vector<std::optional<Drainage>> drains_;         // per material, in scenes with a phreatic surface
+  std::vector<std::optional<Drainage>> drains_;  // per material: its pores drain above the phreatic surface
   double damping_, mass_scaling_;
   std::vector<const Phase*> phases_;  // per material
   std::vector<std::unique_ptr<Liquid>> liquids_;
