@@ -5,7 +5,7 @@
 // K k_r(S):
 //   liquid:   rho_L a_L = -grad psi - (n S gamma_w / (K k_r)) (v_L - v_s) + rho_L b
 //   mixture:  (1-n) rho_s a_s + n S rho_L a_L = div(sigma' - max(psi, 0) I) + rho b
-//   water:    (n / K_L + n dS/dpsi) dpsi/dt = -(S div v_s + div q),  q = n S (v_L - v_s)
+//   water:    d/dt [n (S(psi) + psi / K_L)] = -(S div v_s + div q),  q = n S (v_L - v_s)
 // The liquid's -grad psi is split: the pressure, max(psi, 0), is integrated
 // by parts as in saturated runs, so that a free surface where it is positive
 // drains (a seepage face); the suction, min(psi, 0), is not, so that a

@@ -218,7 +218,7 @@ template <int D, int L = 2>
     const auto dry = n0 <= T{};  // a NaN porosity is not dry: it fails below
     const T n = 1.0 - (1.0 - n0) / J;  // incompressible grains: solid volume is conserved
     // Where pores drain, the rate of the water's volume, -(S div v_s + div q):
-    // g2p_potential turns it into the potential's through each point's storage.
+    // potential_rate (drained_pores.hpp) turns it into the potential's.
     const T S = pt.saturation ? load_at<T>(pt.saturation + p) : splat<T>(1.0);
     const T rate = pt.saturation ? -(S * div_s + div_q) : -load_at<T>(pt.bulk_modulus + p) / n0 * (div_s + div_q);
     store_at(pt.pressure_rate + p, pick(dry, T{}, rate));
