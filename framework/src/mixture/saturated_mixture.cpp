@@ -66,6 +66,7 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
     drains_.push_back(m.phreatic ? std::optional<Drainage>(Drainage(*m.phreatic)) : std::nullopt);
   }
   f_ = register_fields(d_.points, fields_declared());
+  if (scene.integration == TimeIntegration::quasi_static && scene.failure && scene.failure->collapse) close_grid_faces(conditions);
   if (scene.phreatic()) {
     f_.saturation = d_.points.add_field(saturation_field());
     f_.potential = d_.points.add_field(potential_field());
@@ -78,6 +79,33 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
   const std::size_t nn = d_.grid.node_count();
   for (auto* v : {&node_drag_, &node_pressure_rate_}) v->assign(nn, 0.0);
   node_darcy_.assign(nn * dim, 0.0);
+}
+
+void SaturatedMixture::close_grid_faces(const std::vector<std::unique_ptr<BoundaryCondition>>& conditions) {
+  const int dim = d_.dim();
+  std::vector<std::vector<bool>> opened(static_cast<std::size_t>(2 * dim));  // per face: which nodes are open
+  for (const auto& condition : conditions)
+    for (const LiquidOpening& o : condition->liquid_openings()) {
+      std::vector<bool>& open = opened[static_cast<std::size_t>(2 * o.face.axis + (o.face.upper ? 1 : 0))];
+      open.resize(d_.grid.node_count(), false);
+      for (const std::int64_t I : o.nodes.empty() ? face_nodes(d_.grid, o.face) : o.nodes)
+        open[static_cast<std::size_t>(I)] = true;
+    }
+  for (int axis = 0; axis < dim; ++axis)
+    for (const bool upper : {false, true}) {
+      const std::vector<bool>& open = opened[static_cast<std::size_t>(2 * axis + (upper ? 1 : 0))];
+      for (const std::int64_t I : face_nodes(d_.grid, GridFace{axis, upper}))
+        if (open.empty() || !open[static_cast<std::size_t>(I)])
+          closed_nodes_.push_back({static_cast<std::size_t>(I), axis});
+    }
+}
+
+void SaturatedMixture::hold_liquid_on_closed_faces(NodeState& nodes) const {
+  const auto dim = static_cast<std::size_t>(d_.dim());
+  for (const ClosedNode& c : closed_nodes_) {
+    const std::size_t k = c.node * dim + static_cast<std::size_t>(c.axis);
+    nodes.liquid_velocity[k] = nodes.velocity[k];
+  }
 }
 
 void SaturatedMixture::initialise(const BodySpec& body, const BodyPoints& b, const InitialValues& initial) {

@@ -64,6 +64,13 @@ class SaturatedMixture final : public MomentumBalance {
   void set_standing_water(const StandingWaterLoad* water) { water_ = water; }
   // Stage "permeability": K follows the porosity.
   void update_permeability();
+  // A quasi-static run's grid faces are impermeable but where a condition
+  // opens them; an explicit run's drain wherever nothing holds the liquid
+  // (the pressure's natural condition, docs/boundaries.md). The collapse
+  // after a quasi-static failure keeps the quasi-static faces: on every
+  // grid-face node no condition opens, the liquid's normal velocity is held
+  // to the skeleton's. Called after the conditions' constraints.
+  void hold_liquid_on_closed_faces(NodeState& nodes) const;
 
   const MixtureFields& fields() const { return f_; }
   // Nodal Darcy flux n_I (v_L - v_s)_I of this step (dim per node), shared
@@ -76,6 +83,8 @@ class SaturatedMixture final : public MomentumBalance {
 
  private:
   void update_conductivity(const BodyPoints& b);
+  // The grid-face nodes no condition opens (hold_liquid_on_closed_faces).
+  void close_grid_faces(const std::vector<std::unique_ptr<BoundaryCondition>>& conditions);
   // Where pores drain (drained_pores.cpp): the water's share of the pores,
   // n S, and its conductivity, K k_r, per point, and the suction's force on
   // the liquid, for the points-to-grid scatter.
@@ -111,6 +120,11 @@ class SaturatedMixture final : public MomentumBalance {
     double outward_area;
   };
   std::vector<OpenNode> open_nodes_;  // in scenes with a phreatic surface
+  struct ClosedNode {  // a grid-face node no condition opens to the liquid, and the face's axis
+    std::size_t node;
+    int axis;
+  };
+  std::vector<ClosedNode> closed_nodes_;  // in quasi-static scenes whose failure is followed by a collapse
   const StandingWaterLoad* water_ = nullptr;
 };
 

@@ -41,7 +41,7 @@ double Simulation::end_time() const {
 }
 
 // The points start at rest at the last equilibrium, the liquid moving
-// relative to them as its Darcy flux there (v_L = q / n): the seepage goes
+// relative to them as its Darcy flux there (v_L = q / (n S)): the seepage goes
 // on, and what moves is the mechanism's response to the load the
 // equilibrium could not carry. Stresses, pore pressures, porosities and the
 // fines carry over as they are; the ledger goes on counting.
@@ -55,13 +55,16 @@ void Simulation::start_collapse() {
   if (mixture_) {
     const auto& f = mixture_->fields();
     const double* n = pts.data(f.porosity);
+    const double* S = f.saturation ? pts.data(*f.saturation) : nullptr;
     const double* q = pts.data(f.darcy_flux);
     double* vl = pts.data(f.liquid_velocity);
-    for (std::size_t p = 0; p < pts.size(); ++p)
+    for (std::size_t p = 0; p < pts.size(); ++p) {
+      const double wet = n[p] * (S ? S[p] : 1.0);  // the water flows through the pores it fills
       for (int i = 0; i < dim; ++i) {
         const std::size_t k = p * static_cast<std::size_t>(dim) + static_cast<std::size_t>(i);
-        vl[k] = n[p] > 0 ? q[k] / n[p] : 0.0;
+        vl[k] = wet > 0 ? q[k] / wet : 0.0;
       }
+    }
   }
   clock_.set_step(collapse_time_step());
   clock_.run_until(end_time());

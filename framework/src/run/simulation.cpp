@@ -375,12 +375,14 @@ std::size_t Simulation::point_sorts() const { return point_order_->sorts(); }
 
 void Simulation::constrain_velocity(double time) {
   for (const auto& bc : bcs_) bc->constrain_velocity(domain_->grid, domain_->nodes, time);
+  if (mixture_) mixture_->hold_liquid_on_closed_faces(domain_->nodes);  // a collapse's, as its quasi-static run's
 }
 
 void Simulation::constrain_velocity_recording_reactions(double time, double dt) {
   reactions_->start_constraints(*domain_);
   for (std::size_t b = 0; b < bcs_.size(); ++b)
     reactions_->constrain(b, *bcs_[b], *domain_, time, dt);
+  if (mixture_) mixture_->hold_liquid_on_closed_faces(domain_->nodes);
 }
 
 void Simulation::step() {
