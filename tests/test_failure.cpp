@@ -216,6 +216,10 @@ TEST(Failure, CollapseFollowsTheStripLoadPastItsLimit) {
             << " m in its first 0.5 s, " << second_half << " m in the next (" << s.collapse_steps
             << " explicit steps)\n";
   EXPECT_GT(first_half + second_half, 0.2);
+  // The summary's largest movement since the failure: at least the footing's
+  // mean, and of a point beside or under it.
+  EXPECT_GE(s.collapse_movement, first_half + second_half);
+  EXPECT_LT(s.collapse_movement_at[0], 1.0);
   ASSERT_TRUE(fs::exists(out / (scene.name + ".failure.checkpoint")));
   ASSERT_TRUE(fs::exists(out / (scene.name + ".checkpoint")));
   const std::string pvd = suffuse::test::slurp(out / (scene.name + ".pvd"));
@@ -342,6 +346,19 @@ TEST(Failure, CollapseOfASubmergedSlopeKeepsItsPressuresAndLedger) {
             << s.ledger->solid_imbalance() << "\n";
   EXPECT_GT(collapse_dt, 100 * drag_limit);
   EXPECT_LT(moved, 1e-3 * settled);
+  // The summary's largest movement since the failure is the one at the end,
+  // and its point's position.
+  const double* u = pts.data(pts.core().displacement);
+  const double* x = pts.data(pts.core().position);
+  std::size_t largest_at = 0;
+  double largest = -1;
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const double m = std::hypot(u[2 * k] - u_failure[2 * k], u[2 * k + 1] - u_failure[2 * k + 1]);
+    if (m > largest) largest = m, largest_at = k;
+  }
+  EXPECT_NEAR(s.collapse_movement, largest, 1e-12 * settled);
+  EXPECT_EQ(s.collapse_movement_at[0], x[2 * largest_at]);
+  EXPECT_EQ(s.collapse_movement_at[1], x[2 * largest_at + 1]);
   EXPECT_LT(changed, 1e-3 * largest_p);
   EXPECT_LT(s.ledger->liquid_imbalance(), 1e-12);
   EXPECT_LT(s.ledger->solid_imbalance(), 1e-12);

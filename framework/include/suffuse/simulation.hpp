@@ -140,6 +140,12 @@ struct RunSummary {
   // steps (of `steps`), to simulated_time.
   std::optional<RunFailure> failure;
   std::size_t collapse_steps = 0;
+  // The collapse's largest movement: of any point since the failure [m],
+  // and where that point is now (point field collapse_displacement). A
+  // structure that collapses moves cells; one whose equilibrium was lost
+  // by the solver, not by the structure, stays where it was.
+  double collapse_movement = 0;
+  std::array<double, 3> collapse_movement_at{};
   bool interrupted = false;          // stopped by RunOptions::stop before the end time
   // Runs on many processes: the values this process received from the
   // others in the scatters' exchanges (8 bytes each), over the run.
@@ -303,6 +309,11 @@ class Simulation {
   double collapse_output_interval() const;
   void start_collapse();
   double end_time() const;
+  // The fields of a scene with /failure/collapse: each point's displacement
+  // at the failure (kept, not written) and its movement since then.
+  void add_collapse_fields();
+  void measure_collapse();
+  void summarise_collapse(RunSummary& summary) const;
 
   Scene scene_;
   std::unique_ptr<detail::Domain> domain_;
@@ -322,6 +333,7 @@ class Simulation {
   std::optional<FieldId> safety_shear_strain_;               // scenes with /factor_of_safety
   std::optional<RunFailure> failure_;                        // scenes with /failure, once failed
   std::optional<double> collapse_from_;  // /failure/collapse: the time the explicit run took over
+  std::optional<FieldId> failure_displacement_, collapse_displacement_;  // scenes with /failure/collapse
   std::vector<double> newton_residuals_;  // the last quasi-static step's
   std::unique_ptr<detail::PointOrder> point_order_;          // sorts the points when they mixed
   SimulationClock clock_{0};

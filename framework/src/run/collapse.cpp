@@ -4,6 +4,7 @@
 // Collapse).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mixture/saturated_mixture.hpp"
 #include "mpm/domain.hpp"
@@ -68,6 +69,50 @@ void Simulation::start_collapse() {
   }
   clock_.set_step(collapse_time_step());
   clock_.run_until(end_time());
+  const double* u = pts.data(pts.core().displacement);
+  std::copy(u, u + pts.size() * static_cast<std::size_t>(dim), pts.data(*failure_displacement_));
+  measure_collapse();
+}
+
+void Simulation::add_collapse_fields() {
+  if (!scene_.failure || !scene_.failure->collapse) return;
+  PointSet& pts = domain_->points;
+  failure_displacement_ = pts.add_field({"failure_displacement", FieldKind::Vector, "m",
+                                         "the displacement at the failure, which the collapse starts from", false});
+  collapse_displacement_ = pts.add_field(
+      {"collapse_displacement", FieldKind::Vector, "m",
+       "the movement since the failure, in the explicit run that follows the collapse (/failure/collapse); zero "
+       "before it",
+       true});
+}
+
+void Simulation::measure_collapse() {
+  PointSet& pts = domain_->points;
+  const double* u = pts.data(pts.core().displacement);
+  const double* at_failure = pts.data(*failure_displacement_);
+  double* moved = pts.data(*collapse_displacement_);
+  for (std::size_t k = 0; k < pts.size() * static_cast<std::size_t>(scene_.dim); ++k) moved[k] = u[k] - at_failure[k];
+}
+
+// The largest movement since the failure, and where its point is: the
+// process that holds it gives the position (every other gives -inf).
+void Simulation::summarise_collapse(RunSummary& summary) const {
+  const PointSet& pts = domain_->points;
+  const auto dim = static_cast<std::size_t>(scene_.dim);
+  const double* moved = pts.data(*collapse_displacement_);
+  const double* x = pts.data(pts.core().position);
+  double largest = 0;
+  std::size_t at = pts.size();
+  for (std::size_t p = 0; p < pts.size(); ++p) {
+    double sq = 0;
+    for (std::size_t i = 0; i < dim; ++i) sq += moved[p * dim + i] * moved[p * dim + i];
+    if (std::sqrt(sq) > largest || at == pts.size()) largest = std::sqrt(sq), at = p;
+  }
+  summary.collapse_movement = domain_->comm.max(largest);
+  const bool holds = at < pts.size() && largest == summary.collapse_movement;
+  for (std::size_t i = 0; i < dim; ++i)
+    summary.collapse_movement_at[i] =
+        domain_->comm.max(holds ? x[at * dim + i] : -std::numeric_limits<double>::infinity());
 }
 
 }  // namespace suffuse

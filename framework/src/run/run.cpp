@@ -157,6 +157,7 @@ RunSummary Simulation::run(const RunOptions& options) {
       save_checkpoint(end_checkpoint, outputs.checkpoint(), end);
     }
     step();  // a step without equilibrium under /failure leaves the time as it was
+    if (collapse_from_) measure_collapse();
     const double now = clock_.time();
     const bool at_end = clock_.reached_end();
     if (end_saved_before && at_end && domain_->comm.root()) std::filesystem::rename(end_checkpoint, checkpoint);
@@ -228,7 +229,10 @@ RunSummary Simulation::run(const RunOptions& options) {
   summary.factors_of_safety = std::move(factors);
   summary.interrupted = interrupted;
   summary.failure = failure_;
-  if (collapse_from_) summary.collapse_steps = clock_.steps() - collapse_first_step;
+  if (collapse_from_) {
+    summary.collapse_steps = clock_.steps() - collapse_first_step;
+    summarise_collapse(summary);
+  }
   summary.exchanged_values = domain_->exec.exchanged_values() - exchanged_before;
   return summary;
 }

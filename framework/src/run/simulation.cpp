@@ -106,6 +106,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
          "the mechanism of the last factor of safety: the equivalent shear strain sqrt(2/3 e:e) the strength "
          "reduction added up to the largest factor that held",
          true});
+  add_collapse_fields();
   point_order_ = std::make_unique<detail::PointOrder>(scene.sort_points_at_spread);
   for (const OutputSpec& out : scene.outputs)
     writers_.push_back(registry.create<Writer>(out.writer.type, {out.writer.params, dim, out.writer.pointer}));
