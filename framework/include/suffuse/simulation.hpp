@@ -93,6 +93,10 @@ struct SafetyFactor {
   double failed_at = std::numeric_limits<double>::infinity();
   int solves = 0;              // equilibria tried
   int newton_iterations = 0;   // over every solve
+  // The out-of-balance force the solve at full strength starts from, over
+  // the forces: how far the state is from the equilibrium whose pore
+  // pressures the solves hold (the configuration moved since).
+  double start_residual = 0;
 };
 
 // A quasi-static run's structure failed (/failure): the time of its last

@@ -204,6 +204,7 @@ std::optional<int> QuasiStatic::solve(double time, double dt) {
     // from the step's start: the equilibrium sought is the same.
     if (seepage_rounds_ > 1) warm_start();
     if (!newton(dt, iterations)) break;
+    if (!reduction_) keep_equilibrium_pressures();
     if (!phreatic_ || reduction_ || seepage_rounds_ == max_seepage_rounds) return iterations;
     warm_du_ = du_, warm_p_ = p_;
     if (!settle_seepage_faces()) return iterations;
@@ -211,6 +212,13 @@ std::optional<int> QuasiStatic::solve(double time, double dt) {
   if (materials_.writes_eigenstrain() && !reduction_) restore_state(step_start_);
   attempted_iterations_ = iterations;
   return std::nullopt;
+}
+
+void QuasiStatic::keep_equilibrium_pressures() {
+  if (!mixture_) return;
+  equilibrium_p_.assign(p_.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t I = 0; I < p_.size(); ++I)
+    if (node_pore_[I] > 0) equilibrium_p_[I] = p_[I];
 }
 
 // The unknowns at the last seepage round's equilibrium: the increments of

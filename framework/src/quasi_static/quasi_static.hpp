@@ -171,6 +171,12 @@ class QuasiStatic {
   // (warm_du_, warm_p_, kept by solve), not the step's start.
   void warm_start();
   std::vector<double> warm_du_, warm_p_;
+  // The nodal pressures of the last equilibrium a step found (NaN where a
+  // node had none): a strength reduction holds these, not the points'
+  // projection of them, so that its solve at full strength starts in that
+  // equilibrium.
+  std::vector<double> equilibrium_p_;
+  void keep_equilibrium_pressures();
   // evaluate's terms of a point whose pores drain: its internal force with
   // the pressure max(psi, 0), its water balance with S(psi) and k_r; keeps
   // the matrix's factors of the point (coupling_, capacity_, relative_).

@@ -198,7 +198,10 @@ void QuasiStatic::prepare(double time, double dt) {
   for (std::size_t I = 0; I < nn; ++I)
     if (node_pore_[I] > 0 && !fixed[I]) p_dof_[I] = static_cast<std::int64_t>(equations_++);
   follow_inner_nodes();
-  if (reduction_) {  // the pressures held where they are: the points' projected, the surfaces' own
+  if (reduction_) {  // the pressures held where they are: the last equilibrium's, the surfaces' own
+    if (equilibrium_p_.size() == nn)
+      for (std::size_t I = 0; I < nn; ++I)
+        if (!fixed[I] && p_dof_[I] >= 0 && !std::isnan(equilibrium_p_[I])) p_[I] = equilibrium_p_[I];
     p_dof_.assign(nn, -1);
     extrapolated_.clear();
     equations_ = displacement_equations_;

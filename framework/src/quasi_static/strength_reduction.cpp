@@ -28,7 +28,7 @@ void StrengthReduction::restore_points() {
 bool StrengthReduction::holds(double F, double time, double dt, SafetyFactor& result) {
   solver_.reduce_strength(F, controls_.max_iterations);
   const std::optional<int> iterations = solver_.solve(time - dt, dt);  // the loads at `time`
-  ++result.solves;
+  if (result.solves++ == 0 && !solver_.residuals().empty()) result.start_residual = solver_.residuals().front();
   result.newton_iterations += iterations ? *iterations : solver_.attempted_iterations();
   if (!iterations) return false;
   // The solution's strain increment, sym(L) dt at the points (L of its last evaluation).
