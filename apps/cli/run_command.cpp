@@ -296,7 +296,8 @@ int cmd_run(const fs::path& scene_file, const RunCommand& command) {
       std::cout << "An explicit run followed the collapse from there to t = " << s.simulated_time << " s ("
                 << s.collapse_steps << " steps); the largest movement since the failure, " << std::setprecision(3)
                 << s.collapse_movement << " m, is of the point now at (";
-      for (int a = 0; a < scene.dim; ++a) std::cout << (a ? ", " : "") << s.collapse_movement_at[static_cast<std::size_t>(a)];
+      for (int a = 0; a < scene.dim; ++a)
+        std::cout << (a ? ", " : "") << s.collapse_movement_at[static_cast<std::size_t>(a)];
       std::cout << ") m (point field collapse_displacement)";
       if (!output.empty())
         std::cout << "; " << (output / (scene.name + ".failure.checkpoint")).string()

@@ -66,7 +66,8 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
     drains_.push_back(m.phreatic ? std::optional<Drainage>(Drainage(*m.phreatic)) : std::nullopt);
   }
   f_ = register_fields(d_.points, fields_declared());
-  if (scene.integration == TimeIntegration::quasi_static && scene.failure && scene.failure->collapse) close_grid_faces(conditions);
+  if (scene.integration == TimeIntegration::quasi_static && scene.failure && scene.failure->collapse)
+    close_grid_faces(conditions);
   if (scene.phreatic()) {
     f_.saturation = d_.points.add_field(saturation_field());
     f_.potential = d_.points.add_field(potential_field());
