@@ -380,12 +380,7 @@ TEST(Failure, CollapseOfADrainedSlopeKeepsItsPhreaticSurface) {
   auto j = coarse_slope(12);
   j["boundary_conditions"][1]["phase"] = "solid";
   j["failure"] = {{"factor_of_safety", 20.0}, {"collapse", 0.5}};
-  j["liquids"] = {{"water", {{"type", "phase/pore_liquid"}, {"density", 1000.0}, {"bulk_modulus", 2.2e9}}}};
-  j["materials"]["soil"]["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", 1e-7}};
-  j["materials"]["soil"]["phreatic"] = {{"drainage_head", 0.05}};
-  j["bodies"][0]["liquid"] = "water";
-  j["bodies"][0]["porosity"] = 0.4;
-  j["bodies"][0]["water_table"] = 4.0;
+  suffuse::test::drain_slope(j, 4.0);
   suffuse::Registry registry;
   const suffuse::Scene scene = suffuse::test::scene_from(j, registry);
   suffuse::Simulation sim(scene, registry);

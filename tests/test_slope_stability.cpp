@@ -118,12 +118,7 @@ TEST(SlopeStability, EvaluationLeavesTheRunAsItWas) {
 // Limits).
 TEST(SlopeStability, EvaluationStartsFromTheStepsEquilibrium) {
   auto j = slope_scene(1.0);
-  j["liquids"] = {{"water", {{"type", "phase/pore_liquid"}, {"density", 1000.0}, {"bulk_modulus", 2.2e9}}}};
-  j["materials"]["soil"]["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", 1e-7}};
-  j["materials"]["soil"]["phreatic"] = {{"drainage_head", 0.05}};
-  j["bodies"][0]["liquid"] = "water";
-  j["bodies"][0]["porosity"] = 0.4;
-  j["bodies"][0]["water_table"] = 4.0;
+  suffuse::test::drain_slope(j, 4.0);
   j["factor_of_safety"] = {{"max_factor", 1.0001}};
   suffuse::Registry registry;
   const suffuse::Scene scene = suffuse::test::scene_from(j, registry);

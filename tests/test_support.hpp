@@ -180,6 +180,18 @@ inline nlohmann::json draining_column(double width, double conductivity) {
   return s;
 }
 
+// Griffiths and Lane's slope (a scene from share/scenes/slope_stability.json)
+// made porous and drained above a water table `table` above its base (h_d =
+// 0.05 m, K = 1e-7 m/s, porosity 0.4, water at 2.2 GPa; docs/phreatic.md).
+inline void drain_slope(nlohmann::json& j, double table) {
+  j["liquids"] = {{"water", {{"type", "phase/pore_liquid"}, {"density", 1000.0}, {"bulk_modulus", 2.2e9}}}};
+  j["materials"]["soil"]["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", 1e-7}};
+  j["materials"]["soil"]["phreatic"] = {{"drainage_head", 0.05}};
+  j["bodies"][0]["liquid"] = "water";
+  j["bodies"][0]["porosity"] = 0.4;
+  j["bodies"][0]["water_table"] = table;
+}
+
 // A Scene from JSON, with the bundled plugins loaded into `registry`.
 inline Scene scene_from(const nlohmann::json& j, Registry& registry) {
   PluginLoader loader(registry);
