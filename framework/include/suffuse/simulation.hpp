@@ -306,6 +306,10 @@ class Simulation {
   };
   // Replaces the evolving state by the checkpoint's.
   Restored load_checkpoint(const std::filesystem::path& file);
+  // What a quasi-static run's next step starts from besides the points (the
+  // last equilibrium's nodal pressures, run.cpp); empty in explicit runs.
+  std::vector<double> solver_state() const;
+  void restore_solver_state(std::vector<double> values);
   // /failure/collapse (collapse.cpp): the explicit step that follows it, and
   // the hand-over from the last equilibrium; the time the run ends.
   double collapse_time_step() const;

@@ -5,7 +5,8 @@
 // plugin's set-up sees the same initial state), then the checkpoint replaces
 // what evolves: every point field (plugins keep their evolving state in
 // point fields), the ledger's boundary totals, the reactions' sums, the
-// clock, and how many frames each writer wrote.
+// quasi-static solver's last equilibrium (its nodal pressures), the clock,
+// and how many frames each writer wrote.
 //
 // File: a text line "suffuse checkpoint 1", a one-line JSON header, the
 // values (little-endian doubles) in the header's order, then an FNV-1a hash
@@ -93,6 +94,8 @@ void Simulation::save_checkpoint(const std::filesystem::path& file, const Writer
   const std::vector<double> reactions = reactions_->saved_state();
   h["ledger_values"] = ledger.size();
   h["reaction_values"] = reactions.size();
+  const std::vector<double> solver = solver_state();
+  h["solver_values"] = solver.size();
 
   const std::string header = std::string(magic) + "\n" + h.dump() + "\n";  // before any file is made
 
@@ -105,6 +108,7 @@ void Simulation::save_checkpoint(const std::filesystem::path& file, const Writer
   for (FieldId f = 0; f < pts.field_count(); ++f) out.put(pts.data(f), pts.values(f).size());
   out.put(ledger.data(), ledger.size());
   out.put(reactions.data(), reactions.size());
+  out.put(solver.data(), solver.size());
   if (!out.finish()) throw Error("cannot write the checkpoint " + file.string());
   std::filesystem::rename(tmp, file);  // never a half-written checkpoint under its name
 }
@@ -190,10 +194,13 @@ Simulation::Restored Simulation::load_checkpoint(const std::filesystem::path& fi
   std::vector<double> reactions(h.at("reaction_values").get<std::size_t>());
   take(ledger.data(), ledger.size(), "the ledger");
   take(reactions.data(), reactions.size(), "the reactions");
+  std::vector<double> solver(h.at("solver_values").get<std::size_t>());
+  take(solver.data(), solver.size(), "the quasi-static solver's state");
   if (v != end) throw Error(where + "it holds more values than its header lists");
   if (species_) species_->restore_state(ledger);
   else if (!ledger.empty()) throw Error(where + "it holds a ledger, this run is dry");
   reactions_->restore_state(reactions);
+  restore_solver_state(std::move(solver));
   point_order_->restore_reference(h.at("point_order_reference").get<double>());
   renumber_loaded_points();  // the checkpoint's points may have been sorted
   clock_.restore({h.at("dt").get<double>(), h.at("time").get<double>(), h.at("clock_origin").get<double>(),

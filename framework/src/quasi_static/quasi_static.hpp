@@ -177,6 +177,13 @@ class QuasiStatic {
   // equilibrium.
   std::vector<double> equilibrium_p_;
   void keep_equilibrium_pressures();
+
+ public:
+  // For checkpoints: a restart starts its first step as the run would have.
+  const std::vector<double>& equilibrium_pressures() const { return equilibrium_p_; }
+  void restore_equilibrium_pressures(std::vector<double> p) { equilibrium_p_ = std::move(p); }
+
+ private:
   // evaluate's terms of a point whose pores drain: its internal force with
   // the pressure max(psi, 0), its water balance with S(psi) and k_r; keeps
   // the matrix's factors of the point (coupling_, capacity_, relative_).

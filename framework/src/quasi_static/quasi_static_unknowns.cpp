@@ -197,6 +197,15 @@ void QuasiStatic::prepare(double time, double dt) {
   find_free_surfaces();  // drained where the surface is (quasi_static_free_surface.cpp)
   for (std::size_t I = 0; I < nn; ++I)
     if (node_pore_[I] > 0 && !fixed[I]) p_dof_[I] = static_cast<std::int64_t>(equations_++);
+  // Newton's first pressures: the last equilibrium's where a node had one,
+  // not the points' projection of them (the old pressures' storage is the
+  // points' either way). The projection differs by what the shape functions
+  // smear; at a wetting front under a short step that difference is carried
+  // undrained, and points over pores still drained were pushed to the apex
+  // (a flood levee's step lost its equilibrium at the riverside toe).
+  if (!reduction_ && equilibrium_p_.size() == nn)
+    for (std::size_t I = 0; I < nn; ++I)
+      if (p_dof_[I] >= 0 && !std::isnan(equilibrium_p_[I])) p_[I] = equilibrium_p_[I];
   follow_inner_nodes();
   if (reduction_) {  // the pressures held where they are: the last equilibrium's, the surfaces' own
     if (equilibrium_p_.size() == nn)

@@ -237,4 +237,14 @@ RunSummary Simulation::run(const RunOptions& options) {
   return summary;
 }
 
+std::vector<double> Simulation::solver_state() const {
+  return quasi_static_ ? quasi_static_->equilibrium_pressures() : std::vector<double>{};
+}
+
+void Simulation::restore_solver_state(std::vector<double> values) {
+  if (quasi_static_) quasi_static_->restore_equilibrium_pressures(std::move(values));
+  else if (!values.empty())  // (a checkpoint is of the same scene: cannot happen)
+    throw Error("cannot restart: the checkpoint holds a quasi-static solver's state, this run is explicit");
+}
+
 }  // namespace suffuse
