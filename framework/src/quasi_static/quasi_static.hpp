@@ -105,6 +105,10 @@ class QuasiStatic {
     reduction_ = factor;
     reduction_iterations_ = max_iterations;
   }
+  // The last equilibrium's nodal pressures (NaN where a node had none), for
+  // checkpoints: a restart starts its first step as the run would have.
+  const std::vector<double>& equilibrium_pressures() const { return equilibrium_p_; }
+  void restore_equilibrium_pressures(std::vector<double> p) { equilibrium_p_ = std::move(p); }
   // What boundary condition `b` (one whose reaction the scene records) does
   // at the last converged equilibrium: the force its velocity constraints
   // exert on the soil, f_int - f_ext summed over the components it holds
@@ -172,18 +176,11 @@ class QuasiStatic {
   void warm_start();
   std::vector<double> warm_du_, warm_p_;
   // The nodal pressures of the last equilibrium a step found (NaN where a
-  // node had none): a strength reduction holds these, not the points'
-  // projection of them, so that its solve at full strength starts in that
-  // equilibrium.
+  // node had none): the next step's Newton starts from them (prepare), and a
+  // strength reduction holds them, not the points' projection of them, so
+  // that its solve at full strength starts in that equilibrium.
   std::vector<double> equilibrium_p_;
   void keep_equilibrium_pressures();
-
- public:
-  // For checkpoints: a restart starts its first step as the run would have.
-  const std::vector<double>& equilibrium_pressures() const { return equilibrium_p_; }
-  void restore_equilibrium_pressures(std::vector<double> p) { equilibrium_p_ = std::move(p); }
-
- private:
   // evaluate's terms of a point whose pores drain: its internal force with
   // the pressure max(psi, 0), its water balance with S(psi) and k_r; keeps
   // the matrix's factors of the point (coupling_, capacity_, relative_).
