@@ -151,6 +151,7 @@ struct Scene {
   int dim = 2;
   std::array<double, 3> grid_origin{}, grid_cell_size{1, 1, 1};
   std::array<int, 3> grid_cells{1, 1, 1};
+  std::array<bool, 3> grid_periodic{};  // axes along which the grid wraps (/grid/periodic)
   PluginNode shape_function;
   std::vector<MaterialSpec> materials;
   std::vector<LiquidSpec> liquids;

@@ -64,6 +64,7 @@ double QuasiStatic::evaluate(double dt) {
   const int dim = d_.dim();
   const std::size_t nn = d_.grid.node_count();
   for (std::size_t k = 0; k < du_.size(); ++k) d_.nodes.velocity[k] = du_[k] / dt;
+  d_.copy_to_periodic_images(d_.nodes.velocity, dim);  // (the compact supports reach them)
   d_.update_velocity_gradient(dt);
   materials_.update_stress_with_imposed_eigenstrain(d_, dt, reduction_.value_or(1.0));
 
@@ -175,6 +176,7 @@ std::optional<int> QuasiStatic::solve(double time, double dt) {
   failure_.clear();
   int iterations = 0;
   attempted_iterations_ = 0;
+  if (!reduction_) equilibrium_p_ = accepted_p_;  // not a rejected attempt's
   // Phreatic scenes solve the step again while its seepage faces change
   // (settle_seepage_faces), from the same start, at most this many times.
   constexpr int max_seepage_rounds = 8;

@@ -107,8 +107,12 @@ class QuasiStatic {
   }
   // The last equilibrium's nodal pressures (NaN where a node had none), for
   // checkpoints: a restart starts its first step as the run would have.
-  const std::vector<double>& equilibrium_pressures() const { return equilibrium_p_; }
-  void restore_equilibrium_pressures(std::vector<double> p) { equilibrium_p_ = std::move(p); }
+  const std::vector<double>& equilibrium_pressures() const { return accepted_p_; }
+  void restore_equilibrium_pressures(std::vector<double> p) { equilibrium_p_ = accepted_p_ = std::move(p); }
+  // The run takes the equilibrium solve() found: the next step starts from
+  // its pressures. An attempt the run rejects (halved, or moving a cell or
+  // more under /failure) leaves the next attempt to start where it did.
+  void accept_step() { accepted_p_ = equilibrium_p_; }
   // What boundary condition `b` (one whose reaction the scene records) does
   // at the last converged equilibrium: the force its velocity constraints
   // exert on the soil, f_int - f_ext summed over the components it holds
@@ -179,7 +183,9 @@ class QuasiStatic {
   // node had none): the next step's Newton starts from them (prepare), and a
   // strength reduction holds them, not the points' projection of them, so
   // that its solve at full strength starts in that equilibrium.
-  std::vector<double> equilibrium_p_;
+  // accepted_p_: those of the last step the run took (accept_step), where
+  // each solve() starts; equilibrium_p_ also holds its seepage rounds'.
+  std::vector<double> equilibrium_p_, accepted_p_;
   void keep_equilibrium_pressures();
   // evaluate's terms of a point whose pores drain: its internal force with
   // the pressure max(psi, 0), its water balance with S(psi) and k_r; keeps

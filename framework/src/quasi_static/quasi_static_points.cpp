@@ -42,6 +42,7 @@ void QuasiStatic::update_points(double dt) {
       v[p * dim + i] = flip ? v[p * dim + i] + dv[i] / dt : du[i] / dt;
     }
   }
+  d_.wrap_points_into_period();
   if (!mixture_) return;
 
   // Pore pressure, porosity (incompressible grains), Darcy flux and the

@@ -433,9 +433,8 @@ void Simulation::step_explicit() {
   clock_.advance();
 }
 
-// The equilibrium at the end of the quasi-static step, its step halved until
-// one converges: the step taken, or none under /failure (failure_ set; the
-// state stays at the last equilibrium). Without /failure, an error.
+// The equilibrium at the end of the quasi-static step, halved until one converges: the step
+// taken, or none under /failure (failure_ set; the state stays). Without /failure, an error.
 std::optional<double> Simulation::find_equilibrium() {
   const double t = clock_.time();
   const std::size_t n = clock_.steps();
@@ -457,6 +456,7 @@ std::optional<double> Simulation::find_equilibrium() {
       }
     }
     if (iterations) {
+      quasi_static_->accept_step();
       newton_iterations_ += static_cast<std::size_t>(*iterations);
       newton_residuals_ = quasi_static_->residuals();  // a factor of safety's solves come later
       if (const std::size_t held = quasi_static_->creep_held_points(); held > 0) {

@@ -221,6 +221,7 @@ Scene read_scene(const Json& root, Registry& registry, const std::string& name, 
     throw SceneError(name, r.diags);
   }
   for (const SceneSection& section : scene_sections()) section.read(r, scene);
+  check_periodic_grid(r, scene);
   if (r.diags.empty()) check_required_fields(r, scene);
   if (!r.diags.empty()) throw SceneError(name, r.diags);
   scene.fingerprint = fingerprint_of(root);

@@ -1,7 +1,9 @@
 // The grid, and the shape functions between it and the points.
+#include <algorithm>
 #include <cmath>
 
 #include "scene/scene_reader.hpp"
+#include "suffuse/grid_face.hpp"
 
 namespace suffuse::detail {
 
@@ -15,7 +17,11 @@ ParameterSchema grid_schema() {
   s.vector("origin").with_unit("m").fallback(std::vector<double>{}).doc("Lower corner of the grid (default 0)");
   s.vector("cell_size").with_unit("m").above(0).doc("Cell edge length along each axis");
   s.vector("cells").with_unit("-").at_least(1).doc("Number of cells along each axis (integers)");
-  
+  s.string_list("periodic").fallback(std::vector<std::string>{}).doc(
+      "Axes (\"x\", \"y\", \"z\") along which the grid wraps: its upper face's nodes are its lower face's, "
+      "and a point leaving one face enters at the other (an infinite slope, a layer without ends; "
+      "docs/boundaries.md, Periodic grids). Quasi-static runs of dry soil, at least 3 cells along the axis, "
+      "no boundary condition on its faces");
   return s;
 }
 
@@ -52,6 +58,25 @@ void read_grid(SceneReader& r, Scene& scene) {
     }
     r.grid_ok = r.grid_ok && cells_ok;
   }
+  if (g.has("periodic")) {
+    const auto& axes = g.string_list("periodic");
+    for (std::size_t i = 0; i < axes.size(); ++i) {
+      const std::string ptr = "/grid/periodic/" + std::to_string(i);
+      const std::string names[3] = {"x", "y", "z"};
+      const auto a = static_cast<int>(std::find(names, names + 3, axes[i]) - names);
+      if (a >= r.dim) {
+        r.error(ptr, "not an axis", r.dim == 3 ? "\"x\", \"y\" or \"z\"" : "\"x\" or \"y\"",
+                show(r.root["grid"]["periodic"][i]), "core (grid)");
+      } else if (scene.grid_periodic[a]) {
+        r.error(ptr, "an axis named twice", "each axis once", show(r.root["grid"]["periodic"][i]), "core (grid)");
+      } else if (scene.grid_cells[a] < 3) {
+        r.error(ptr, "too few cells along a periodic axis", "at least 3 (a point's support spans 3 nodes)",
+                std::to_string(scene.grid_cells[a]) + " cells", "core (grid)");
+      } else {
+        scene.grid_periodic[a] = true;
+      }
+    }
+  }
 }
 
 void read_shape_function(SceneReader& r, Scene& scene) {
@@ -60,6 +85,32 @@ void read_shape_function(SceneReader& r, Scene& scene) {
 }
 
 }  // namespace
+
+// What a periodic grid does not yet wrap is refused: explicit runs (their
+// kernels scatter to the upper face's nodes), liquids (the free surfaces'
+// search and the fines' transport see the faces as the soil's ends), and a
+// condition on a face the grid wraps.
+void check_periodic_grid(SceneReader& r, const Scene& scene) {
+  if (std::none_of(scene.grid_periodic.begin(), scene.grid_periodic.end(), [](bool b) { return b; })) return;
+  const std::string ptr = "/grid/periodic", who = "core (grid)";
+  if (scene.integration != TimeIntegration::quasi_static)
+    r.error(ptr, "a periodic grid in an explicit run", "\"integration\": \"quasi_static\" in /time",
+            "integration explicit", who);
+  if (!scene.liquids.empty())
+    r.error(ptr, "a periodic grid with liquids",
+            "dry soil (the pore pressures' free surfaces and the fines' transport do not wrap yet)",
+            scene.liquids.size() == 1 ? "1 liquid" : std::to_string(scene.liquids.size()) + " liquids", who);
+  if (!r.root.contains("boundary_conditions") || !r.root["boundary_conditions"].is_array()) return;
+  const Json& bcs = r.root["boundary_conditions"];
+  const std::vector<std::string> faces = grid_face_names();
+  for (std::size_t i = 0; i < bcs.size(); ++i) {
+    if (!bcs[i].is_object() || !bcs[i].contains("face") || !bcs[i]["face"].is_string()) continue;
+    const auto f = std::find(faces.begin(), faces.end(), bcs[i]["face"].get<std::string>());
+    if (f != faces.end() && scene.grid_periodic[static_cast<std::size_t>(f - faces.begin()) / 2])
+      r.error("/boundary_conditions/" + std::to_string(i) + "/face", "a condition on a face the grid wraps",
+              "a face of an axis not in /grid/periodic", show(bcs[i]["face"]), who);
+  }
+}
 
 SceneSection grid_section() { return {"grid", "grid", "Structured regular background grid", grid_schema, read_grid}; }
 

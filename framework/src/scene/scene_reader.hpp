@@ -60,6 +60,8 @@ struct SceneSection {
 
 SceneSection top_level_section();
 SceneSection grid_section();
+// After every section: what a periodic grid does not wrap yet (scene_grid.cpp).
+void check_periodic_grid(SceneReader& r, const Scene& scene);
 SceneSection shape_function_section();
 SceneSection time_section();
 SceneSection materials_section();
