@@ -490,6 +490,24 @@ TEST(Parallel, QuasiStaticInertiaCloseToSerial) {
   expect_close_to_serial("inertia_quasi_static", scene, {2, 3}, 1e-7);
 }
 
+// A periodic grid (docs/boundaries.md, Periodic grids): the infinite
+// slope's layer, 8 m long (2,560 points, 2 chunks of 2,048 and 512), carried 1 m by its base in four
+// steps, so that points cross the seam. Each process assembles its points'
+// terms to the lower face's nodes where they reach the upper face's, and
+// each puts its own points back into the period.
+TEST(Parallel, QuasiStaticPeriodicLayerCloseToSerial) {
+  json scene = scene_file("infinite_slope");
+  scene.erase("factor_of_safety");
+  scene["grid"]["cells"] = {16, 12};
+  scene["bodies"][0]["max"] = {8.0, 5.0};
+  scene["bodies"][0]["points_per_cell"] = 4;
+  scene["boundary_conditions"][0]["vx"] = 1.0;
+  scene["time"]["dt"] = 0.25;
+  scene["time"]["max_dt"] = 0.25;
+  scene["outputs"] = json::array();
+  expect_close_to_serial("periodic_quasi_static", scene, {2}, 1e-7);
+}
+
 // A cohesionless column free on one side has no quasi-static equilibrium
 // (8,192 points, 4 chunks): the creep term holds the points at the apex of
 // Mohr-Coulomb's cone (summed over the processes), and the error says where
