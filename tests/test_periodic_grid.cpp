@@ -149,3 +149,94 @@ TEST(Periodic, ALayerCarriedAcrossTheSeamComesInAtTheOtherEnd) {
   EXPECT_EQ(wrapped, 3 * x.size() / 2 / 8) << "the points that were within 0.75 m of the far end";
   EXPECT_LT(suffuse::test::max_relative_difference(s, s0), 1e-9);
 }
+
+// The saturated infinite slope with seepage parallel to it: the layer of
+// the dry one, its pores full (n = 0.4, grains 2,650 kg/m^3, k = 1e-4 m/s),
+// at beta = atan(1/4), its surface drained, its base closed, from no pore
+// pressure: two steps of 1,000 s (each about 27 consolidation times; the
+// first, one backward Euler step, still carries the water its storage
+// took in over it, the second none) to the steady flow. The pressure is
+// hydrostatic across the layer, p = gamma_w cos(beta) (H - y), and the
+// water flows along it at q = k sin(beta); the effective normal stress on a
+// plane parallel to the slope is gamma' cos(beta) z, and the factor of
+// safety (gamma' / gamma_sat) tan(phi') / tan(beta) = 1.393 (the pore
+// pressures held at the step's, as for a flood's transient seepage).
+// Asserted within 2%: the pressures of gamma_w cos(beta) H (measured
+// 0.04%), the flux of k sin(beta) (0.37%), the factor (1.3906, -0.2%).
+TEST(Periodic, SaturatedInfiniteSlopeWithSeepageAlongIt) {
+  auto j = infinite_slope();
+  const double beta = std::atan(0.25), g = 9.81, H = 5, k = 1e-4, n = 0.4;
+  j["gravity"] = {g * std::sin(beta), -g * std::cos(beta)};
+  j["liquids"] = {{"water", {{"type", "phase/pore_liquid"}, {"density", 1000.0}, {"bulk_modulus", 2.2e9},
+                             {"viscosity", 0.001}}}};
+  j["materials"]["sand"]["density"] = 2650.0;
+  j["materials"]["sand"]["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", k}};
+  j["bodies"][0]["liquid"] = "water";
+  j["bodies"][0]["porosity"] = n;
+  j["time"]["end"] = 2000.0;
+  j["time"]["dt"] = 1000.0;
+  j["time"]["max_dt"] = 1000.0;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  sim.step();
+  sim.step();
+  const auto x = field(sim, "position"), p = field(sim, "pore_pressure"), q = field(sim, "darcy_flux");
+  const double gamma_w = 1000 * g, scale = gamma_w * std::cos(beta) * H, flow = k * std::sin(beta);
+  double worst_p = 0, worst_q = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    worst_p = std::max(worst_p, std::abs(p[i] - gamma_w * std::cos(beta) * (H - x[2 * i + 1])));
+    worst_q = std::max({worst_q, std::abs(q[2 * i] - flow), std::abs(q[2 * i + 1])});
+  }
+  const suffuse::SafetyFactor f = sim.factor_of_safety();
+  const double rho_sat = (1 - n) * 2650 + n * 1000;
+  const double expected = (rho_sat - 1000) / rho_sat * std::tan(35 * std::numbers::pi / 180) / 0.25;
+  std::printf("saturated infinite slope: pressure within %.2e of gamma_w cos(beta) H, flux within %.2e of k "
+              "sin(beta); F %.4f (to %.4f) against %.4f\n",
+              worst_p / scale, worst_q / flow, f.factor, f.failed_at, expected);
+  RecordProperty("factor_of_safety", text(f.factor));
+  EXPECT_LT(worst_p, 0.02 * scale);
+  EXPECT_LT(worst_q, 0.02 * flow);
+  EXPECT_NEAR(f.factor, expected, 0.02 * expected);
+}
+
+// Level ground on a periodic grid under 1 m of still water (bc/water_level
+// at 6 m over the layer 5 m deep; vertical gravity, quasi-static): the
+// water's load on the surface, which the condition spreads with the compact
+// supports, reaches the nodes of the seam through the lower face's (what it
+// puts on the upper face's is added there). The pore pressure hydrostatic,
+// gamma_w (6 - y), within 0.1% of gamma_w 6 m, and sigma'_yy = -gamma' (5 -
+// y) within 1% of gamma' 5 m, at every x.
+TEST(Periodic, SubmergedLayerCarriesItsBuoyantWeight) {
+  auto j = infinite_slope();
+  j.erase("factor_of_safety");
+  j["gravity"] = {0.0, -9.81};
+  j["liquids"] = {{"water", {{"type", "phase/pore_liquid"}, {"density", 1000.0}, {"bulk_modulus", 2.2e9},
+                             {"viscosity", 0.001}}}};
+  j["materials"]["sand"] = {{"type", "phase/linear_elastic"}, {"density", 2650.0}, {"youngs_modulus", 5e7},
+                            {"poisson_ratio", 0.3},
+                            {"permeability", {{"type", "permeability/constant"}, {"hydraulic_conductivity", 1e-4}}}};
+  j["bodies"][0]["liquid"] = "water";
+  j["bodies"][0]["porosity"] = 0.4;
+  j["bodies"][0]["water_table"] = 6.0;
+  j["boundary_conditions"].push_back({{"type", "bc/water_level"}, {"level", 6.0}});
+  j["time"]["end"] = 2000.0;
+  j["time"]["dt"] = 1000.0;
+  j["time"]["max_dt"] = 1000.0;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  while (sim.time() < 2000 - 1e-9) sim.step();
+  const auto x = field(sim, "position"), p = field(sim, "pore_pressure"), s = field(sim, "stress");
+  const double gamma_w = 9810, gamma_b = 0.6 * 1650 * 9.81;
+  double worst_p = 0, worst_s = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double y = x[2 * i + 1];
+    worst_p = std::max(worst_p, std::abs(p[i] - gamma_w * (6 - y)));
+    worst_s = std::max(worst_s, std::abs(s[6 * i + 1] + gamma_b * (5 - y)));
+  }
+  std::printf("submerged periodic layer: pressure within %.2e of gamma_w 6 m, sigma'_yy within %.2e of gamma' 5 m\n",
+              worst_p / (gamma_w * 6), worst_s / (gamma_b * 5));
+  EXPECT_LT(worst_p, 0.001 * gamma_w * 6);
+  EXPECT_LT(worst_s, 0.01 * gamma_b * 5);
+}

@@ -383,6 +383,17 @@ void Domain::copy_to_periodic_images(std::vector<double>& nodal, int components)
       for (int i = 0; i < components; ++i) nodal[I * components + i] = nodal[from * components + i];
 }
 
+void Domain::fold_periodic_images(std::vector<double>& nodal, int components) const {
+  if (!periodic()) return;
+  const auto nn = static_cast<std::int64_t>(grid.node_count());
+  for (std::int64_t I = 0; I < nn; ++I)
+    if (const std::int64_t to = wrapped_node(I); to != I)
+      for (int i = 0; i < components; ++i) {
+        nodal[to * components + i] += nodal[I * components + i];
+        nodal[I * components + i] = 0;
+      }
+}
+
 void Domain::wrap_points_into_period() {
   if (!periodic()) return;
   const int D = dim();

@@ -99,7 +99,7 @@ class Domain {
   // The step's shape functions written out node by node (the quasi-static
   // solve's assembly reads them many times), made once per step on demand.
   const ExpandedSupports& expanded_shape();
-  // A periodic grid (/grid/periodic; quasi-static runs of dry soil): along
+  // A periodic grid (/grid/periodic; quasi-static runs without erosion): along
   // such an axis the upper face's nodes are the lower face's. The expanded
   // supports name the lower face's node where a point reaches the upper
   // face's, so that every sum over a point's nodes wraps; the kernels that
@@ -108,6 +108,9 @@ class Domain {
   // enter at the other (wrap_points_into_period).
   bool periodic() const { return periodic_[0] || periodic_[1] || periodic_[2]; }
   void copy_to_periodic_images(std::vector<double>& nodal, int components) const;
+  // Sums the upper face's nodes into the lower face's and zeroes them: for
+  // what a plugin scattered with the compact supports (a condition's loads).
+  void fold_periodic_images(std::vector<double>& nodal, int components) const;
   void wrap_points_into_period();
   // Stage "strain": velocity gradient L from the remapped nodal velocities
   // (its trace averaged over each cell's points where the scene asks for

@@ -20,7 +20,7 @@ ParameterSchema grid_schema() {
   s.string_list("periodic").fallback(std::vector<std::string>{}).doc(
       "Axes (\"x\", \"y\", \"z\") along which the grid wraps: its upper face's nodes are its lower face's, "
       "and a point leaving one face enters at the other (an infinite slope, a layer without ends; "
-      "docs/boundaries.md, Periodic grids). Quasi-static runs of dry soil, at least 3 cells along the axis, "
+      "docs/boundaries.md, Periodic grids). Quasi-static runs without erosion, at least 3 cells along the axis, "
       "no boundary condition on its faces");
   return s;
 }
@@ -87,19 +87,21 @@ void read_shape_function(SceneReader& r, Scene& scene) {
 }  // namespace
 
 // What a periodic grid does not yet wrap is refused: explicit runs (their
-// kernels scatter to the upper face's nodes), liquids (the free surfaces'
-// search and the fines' transport see the faces as the soil's ends), and a
-// condition on a face the grid wraps.
+// kernels scatter to the upper face's nodes), fines that move (their
+// transport over the dual cells sees the faces as walls), and a condition
+// on a face the grid wraps.
 void check_periodic_grid(SceneReader& r, const Scene& scene) {
   if (std::none_of(scene.grid_periodic.begin(), scene.grid_periodic.end(), [](bool b) { return b; })) return;
   const std::string ptr = "/grid/periodic", who = "core (grid)";
   if (scene.integration != TimeIntegration::quasi_static)
     r.error(ptr, "a periodic grid in an explicit run", "\"integration\": \"quasi_static\" in /time",
             "integration explicit", who);
-  if (!scene.liquids.empty())
-    r.error(ptr, "a periodic grid with liquids",
-            "dry soil (the pore pressures' free surfaces and the fines' transport do not wrap yet)",
-            scene.liquids.size() == 1 ? "1 liquid" : std::to_string(scene.liquids.size()) + " liquids", who);
+  const bool suspended = std::any_of(scene.bodies.begin(), scene.bodies.end(),
+                                     [](const BodySpec& b) { return b.concentration > 0; });
+  if (scene.erodible() || suspended)
+    r.error(ptr, "a periodic grid with fines that move",
+            "no erosion law and no suspended fines (their transport over the grid's dual cells does not wrap yet)",
+            scene.erodible() ? "an erosion law" : "suspended fines", who);
   if (!r.root.contains("boundary_conditions") || !r.root["boundary_conditions"].is_array()) return;
   const Json& bcs = r.root["boundary_conditions"];
   const std::vector<std::string> faces = grid_face_names();
