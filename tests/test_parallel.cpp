@@ -267,6 +267,24 @@ TEST(Parallel, RestartOnOtherProcessCountsContinuesExactly) {
   EXPECT_TRUE(slurp(dir / "continued" / "column.ledger.csv") == slurp(dir / "whole" / "column.ledger.csv"));
 }
 
+// A periodic grid's explicit steps (docs/boundaries.md, Periodic grids):
+// the infinite slope's layer made elastic, 8 m long (2,560 points, 2 chunks
+// of 2,048 and 512), settling for 0.5 s; each process adds its images to
+// the nodes they are after its scatters, as the serial run does.
+TEST(Parallel, PeriodicLayerEqualsSerial) {
+  json scene = scene_file("infinite_slope");
+  scene.erase("factor_of_safety");
+  scene["materials"]["sand"] = {{"type", "phase/linear_elastic"}, {"density", 2000.0}, {"youngs_modulus", 5e7},
+                                {"poisson_ratio", 0.3}};
+  scene["grid"]["cells"] = {16, 12};
+  scene["bodies"][0]["max"] = {8.0, 5.0};
+  scene["bodies"][0]["points_per_cell"] = 4;
+  scene["damping"] = 0.2;
+  scene["time"] = {{"end", 0.5}, {"cfl", 0.5}};
+  scene["outputs"] = json::array();
+  expect_equal_to_serial("periodic_layer", scene, {2, 3});
+}
+
 // A load carried by the points (bc/traction) reads every point on every
 // process: a surcharge on the 2D column, its top points on the last process.
 TEST(Parallel, PointLoadsEqualSerial) {

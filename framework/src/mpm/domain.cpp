@@ -13,12 +13,12 @@ namespace suffuse::detail {
 
 Domain::Domain(const Scene& scene, const Registry& registry, int threads)
     : grid(scene.dim, scene.grid_origin, scene.grid_cell_size, scene.grid_cells),
+      periodic(grid, scene.grid_periodic),
       points(scene.dim),
       exec(threads, static_cast<std::size_t>(scene.grid_cells[scene.dim - 1]), kernel_isa_for_this_machine()),
       shape_function_(registry.create<ShapeFunction>(
           scene.shape_function.type, {scene.shape_function.params, scene.dim, scene.shape_function.pointer})),
-      average_volumetric_rate_(scene.volumetric_strain == VolumetricStrain::cell_average),
-      periodic_(scene.grid_periodic) {
+      average_volumetric_rate_(scene.volumetric_strain == VolumetricStrain::cell_average) {
   for (int a = 0; a < scene.dim; ++a) {
     shape.nodes[a] = shape_function_->support(grid.nodes_per_axis()[a]);
     if (shape.nodes[a] < 1 || shape.nodes[a] > grid.nodes_per_axis()[a])
@@ -360,52 +360,11 @@ void Domain::evaluate_shape(Interpolation& out) {
 const ExpandedSupports& Domain::expanded_shape() {
   if (!expanded_current_) {
     expand_supports(shape.view(), dim(), points.size(), expanded_);
-    if (periodic())
-      for (NodeId& id : expanded_.ids) id = static_cast<NodeId>(wrapped_node(id));
+    if (periodic.any())  // a sum over a point's nodes goes to the node an image is
+      for (NodeId& id : expanded_.ids) id = static_cast<NodeId>(periodic.node(id));
   }
   expanded_current_ = true;
   return expanded_;
-}
-
-std::int64_t Domain::wrapped_node(std::int64_t node) const {
-  const auto& n = grid.nodes_per_axis();
-  const std::int64_t stride[3] = {1, n[0], static_cast<std::int64_t>(n[0]) * n[1]};
-  for (int a = 0; a < dim(); ++a)
-    if (periodic_[a] && (node / stride[a]) % n[a] == n[a] - 1) node -= (n[a] - 1) * stride[a];
-  return node;
-}
-
-void Domain::copy_to_periodic_images(std::vector<double>& nodal, int components) const {
-  if (!periodic()) return;
-  const auto nn = static_cast<std::int64_t>(grid.node_count());
-  for (std::int64_t I = 0; I < nn; ++I)
-    if (const std::int64_t from = wrapped_node(I); from != I)
-      for (int i = 0; i < components; ++i) nodal[I * components + i] = nodal[from * components + i];
-}
-
-void Domain::fold_periodic_images(std::vector<double>& nodal, int components) const {
-  if (!periodic()) return;
-  const auto nn = static_cast<std::int64_t>(grid.node_count());
-  for (std::int64_t I = 0; I < nn; ++I)
-    if (const std::int64_t to = wrapped_node(I); to != I)
-      for (int i = 0; i < components; ++i) {
-        nodal[to * components + i] += nodal[I * components + i];
-        nodal[I * components + i] = 0;
-      }
-}
-
-void Domain::wrap_points_into_period() {
-  if (!periodic()) return;
-  const int D = dim();
-  double* x = points.data(points.core().position);
-  for (std::size_t p = 0; p < points.size(); ++p)
-    for (int a = 0; a < D; ++a) {
-      if (!periodic_[a]) continue;
-      const double lo = grid.origin()[a], hi = grid.upper(a);
-      double& xa = x[p * D + a];
-      if (xa < lo) xa += hi - lo;
-      else if (xa >= hi) xa -= hi - lo;
-    }
 }
 
 void expand_supports(const PointSupports& s, int dim, std::size_t points, ExpandedSupports& out) {

@@ -12,9 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "mpm/periodic_grid.hpp"
+#include "mpm/point_supports.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/executor.hpp"
-#include "mpm/point_supports.hpp"
 #include "suffuse/grid.hpp"
 #include "suffuse/phase.hpp"
 #include "suffuse/plugin.hpp"
@@ -99,19 +100,7 @@ class Domain {
   // The step's shape functions written out node by node (the quasi-static
   // solve's assembly reads them many times), made once per step on demand.
   const ExpandedSupports& expanded_shape();
-  // A periodic grid (/grid/periodic; quasi-static runs without erosion): along
-  // such an axis the upper face's nodes are the lower face's. The expanded
-  // supports name the lower face's node where a point reaches the upper
-  // face's, so that every sum over a point's nodes wraps; the kernels that
-  // read nodal values with the compact supports find the lower face's at
-  // the upper face (copy_to_periodic_images), and points leaving one face
-  // enter at the other (wrap_points_into_period).
-  bool periodic() const { return periodic_[0] || periodic_[1] || periodic_[2]; }
-  void copy_to_periodic_images(std::vector<double>& nodal, int components) const;
-  // Sums the upper face's nodes into the lower face's and zeroes them: for
-  // what a plugin scattered with the compact supports (a condition's loads).
-  void fold_periodic_images(std::vector<double>& nodal, int components) const;
-  void wrap_points_into_period();
+
   // Stage "strain": velocity gradient L from the remapped nodal velocities
   // (its trace averaged over each cell's points where the scene asks for
   // it), strain += sym(L) dt, volume *= det(I + L dt).
@@ -189,6 +178,7 @@ class Domain {
 
   Communicator comm;
   GridGeometry grid;
+  PeriodicGrid periodic;  // the axes along which the grid wraps (mpm/periodic_grid.hpp)
   NodeState nodes;
   PointSet points;
   Executor exec;
@@ -212,9 +202,7 @@ class Domain {
   bool average_volumetric_rate_;
   ExpandedSupports expanded_;
   bool expanded_current_ = false;
-  std::array<bool, 3> periodic_{};
-  // The node of the lower faces a node of a periodic axis's upper face is.
-  std::int64_t wrapped_node(std::int64_t node) const;
+
   void start_node_terms(int k);
   template <class Terms>
   void add_node_terms(std::size_t I, Terms& terms) {

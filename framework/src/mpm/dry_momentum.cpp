@@ -22,6 +22,9 @@ void DryMomentum::points_to_grid() {
   d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     unpack(b, e, block_.data(), n.mass.data(), n.momentum.data(), n.force.data());
   });
+  d_.periodic.fold(n.mass, 1);  // (a periodic grid's images: mpm/periodic_grid.hpp)
+  d_.periodic.fold(n.momentum, d_.dim());
+  d_.periodic.fold(n.force, d_.dim());
 }
 
 void DryMomentum::integrate_grid(double dt) {
@@ -38,6 +41,8 @@ void DryMomentum::accelerations(double dt) {
   d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     acc(b, e, dt, n.mass.data(), n.momentum.data(), n.velocity.data(), n.acceleration.data());
   });
+  d_.periodic.copy_to_images(n.velocity, d_.dim());
+  d_.periodic.copy_to_images(n.acceleration, d_.dim());
 }
 
 void DryMomentum::grid_to_points(double dt) {
@@ -50,6 +55,7 @@ void DryMomentum::grid_to_points(double dt) {
                               d_.points.data(f.displacement), d_.points.data(f.velocity), nullptr, nullptr);
     });
   });
+  d_.periodic.wrap(d_.points.data(f.position), d_.points.size());
 }
 
 void DryMomentum::remap() {
@@ -65,6 +71,7 @@ void DryMomentum::remap() {
                          d_.points.data(f.velocity), out[0]);
     });
   });
+  d_.periodic.fold(n.momentum, d_.dim());
   auto velocity = d_.dim() == 2 ? &velocity_from_momentum<2> : &velocity_from_momentum<3>;
   d_.for_nodes([&](int, std::size_t b, std::size_t e) {
     velocity(b, e, n.mass.data(), n.momentum.data(), n.velocity.data());

@@ -64,7 +64,7 @@ double QuasiStatic::evaluate(double dt) {
   const int dim = d_.dim();
   const std::size_t nn = d_.grid.node_count();
   for (std::size_t k = 0; k < du_.size(); ++k) d_.nodes.velocity[k] = du_[k] / dt;
-  d_.copy_to_periodic_images(d_.nodes.velocity, dim);  // (the compact supports reach them)
+  d_.periodic.copy_to_images(d_.nodes.velocity, dim);  // (the compact supports reach them)
   d_.update_velocity_gradient(dt);
   materials_.update_stress_with_imposed_eigenstrain(d_, dt, reduction_.value_or(1.0));
 

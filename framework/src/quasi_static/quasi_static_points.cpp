@@ -42,7 +42,7 @@ void QuasiStatic::update_points(double dt) {
       v[p * dim + i] = flip ? v[p * dim + i] + dv[i] / dt : du[i] / dt;
     }
   }
-  d_.wrap_points_into_period();
+  d_.periodic.wrap(x, pts.size());
   if (!mixture_) return;
 
   // Pore pressure, porosity (incompressible grains), Darcy flux and the
@@ -106,7 +106,7 @@ void QuasiStatic::update_points(double dt) {
   sum_over_processes(node_q);
   for (std::size_t I = 0; I < node_volume_.size(); ++I)
     for (int i = 0; i < dim; ++i) node_q[I * dim + i] = node_volume_[I] > 0 ? node_q[I * dim + i] / node_volume_[I] : 0.0;
-  d_.copy_to_periodic_images(node_q, dim);  // (the transport reads it with the compact supports)
+  d_.periodic.copy_to_images(node_q, dim);  // (the transport reads it with the compact supports)
   // Through a face whose pressure is prescribed, the flux is what the
   // pressure equation of its node leaves unbalanced (the weak form's
   // boundary term: the volume leaving there over the step), not the mean of

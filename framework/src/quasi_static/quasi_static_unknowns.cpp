@@ -114,8 +114,6 @@ void QuasiStatic::prepare(double time, double dt) {
     probe_.liquid_inertia = node_volume_;
   }
   apply_loads_(probe_, t1);
-  d_.fold_periodic_images(probe_.force, dim);  // (the conditions scatter with the compact supports)
-  if (mixture_) d_.fold_periodic_images(probe_.liquid_force, dim);
   held_.assign(bcs_.size(), {});
   for (std::size_t b = 0; b < bcs_.size(); ++b) {
     const bool recorded = std::any_of(scene_.reactions.begin(), scene_.reactions.end(),

@@ -12,6 +12,8 @@
 #include "quasi_static/quasi_static.hpp"
 #include "scene/scene_reader.hpp"
 #include "mpm/reactions.hpp"
+#include "mixture/standing_water.hpp"
+#include "run/named_condition.hpp"
 #include "io/run_outputs.hpp"
 #include "mixture/saturated_mixture.hpp"
 #include "transport/species_transport.hpp"
@@ -245,6 +247,28 @@ void Simulation::restore_solver_state(std::vector<double> values) {
   if (quasi_static_) quasi_static_->restore_equilibrium_pressures(std::move(values));
   else if (!values.empty())  // (a checkpoint is of the same scene: cannot happen)
     throw Error("cannot restart: the checkpoint holds a quasi-static solver's state, this run is explicit");
+}
+
+// The loads of the conditions and the water levels on the nodes at `time`.
+void Simulation::apply_loads(NodeState& nodes, double time) {
+  if (water_) water_->add_forces(*domain_, mixture_->fields(), nodes, time);
+  // On many processes a condition that loads points reads every point, in
+  // the serial run's numbering, on every process (gathered once per step):
+  // each process adds the serial run's forces to its whole grid.
+  const PointSet* every = nullptr;
+  for (const auto& bc : bcs_) {
+    bc->apply_forces(domain_->grid, nodes, time);
+    if (!domain_->comm.parallel()) {
+      bc->apply_point_forces(domain_->grid, domain_->points, nodes, time);
+    } else if (bc->loads_points()) {
+      if (!every) every = load_every_point_ ? &domain_->every_point() : &domain_->points_at(loaded_points_);
+      bc->apply_point_forces(domain_->grid, *every, nodes, time);
+    }
+  }
+  // The conditions spread their loads with the compact supports: what they
+  // put on a periodic grid's images belongs to the nodes they are.
+  domain_->periodic.fold(nodes.force, scene_.dim);
+  if (!nodes.liquid_force.empty()) domain_->periodic.fold(nodes.liquid_force, scene_.dim);
 }
 
 }  // namespace suffuse

@@ -193,6 +193,11 @@ void Simulation::refuse_what_one_process_only_runs() const {
   if (scene_.integration == TimeIntegration::quasi_static && !detail::built_with_petsc())
     throw Error("/time/integration \"quasi_static\" runs on many processes through PETSc, which this build lacks, "
                 "not" + processes + "install libpetsc-real-dev and rebuild, or run it without mpirun (docs/parallel.md)");
+  const bool explicit_steps = scene_.integration == TimeIntegration::explicit_dynamics ||
+                              (scene_.failure && scene_.failure->collapse);
+  if (domain_->periodic.along(scene_.dim - 1) && explicit_steps)
+    throw Error("/grid/periodic: explicit steps wrap along the last axis on one process only, not" + processes +
+                "the processes' slabs are cut along it (docs/parallel.md); run it without mpirun");
 }
 
 std::size_t Simulation::point_count() const { return domain_->total_points(); }
@@ -309,23 +314,6 @@ void Simulation::refuse_or_keep_standing_water() {
   mixture_->set_standing_water(water_.get());
 }
 
-void Simulation::apply_loads(NodeState& nodes, double time) {
-  if (water_) water_->add_forces(*domain_, mixture_->fields(), nodes, time);
-  // On many processes a condition that loads points reads every point, in
-  // the serial run's numbering, on every process (gathered once per step):
-  // each process adds the serial run's forces to its whole grid.
-  const PointSet* every = nullptr;
-  for (const auto& bc : bcs_) {
-    bc->apply_forces(domain_->grid, nodes, time);
-    if (!domain_->comm.parallel()) {
-      bc->apply_point_forces(domain_->grid, domain_->points, nodes, time);
-    } else if (bc->loads_points()) {
-      if (!every) every = load_every_point_ ? &domain_->every_point() : &domain_->points_at(loaded_points_);
-      bc->apply_point_forces(domain_->grid, *every, nodes, time);
-    }
-  }
-}
-
 void Simulation::points_renumbered() {
   renumber_loaded_points();
   // The writers, on the process that writes: every point's new number.
@@ -377,6 +365,7 @@ std::size_t Simulation::point_sorts() const { return point_order_->sorts(); }
 void Simulation::constrain_velocity(double time) {
   for (const auto& bc : bcs_) bc->constrain_velocity(domain_->grid, domain_->nodes, time);
   if (mixture_) mixture_->hold_liquid_on_closed_faces(domain_->nodes);  // a collapse's, as its quasi-static run's
+  domain_->periodic.copy_to_images(domain_->nodes.velocity, scene_.dim);  // (a condition on a box may hold one)
 }
 
 void Simulation::constrain_velocity_recording_reactions(double time, double dt) {

@@ -20,7 +20,7 @@ ParameterSchema grid_schema() {
   s.string_list("periodic").fallback(std::vector<std::string>{}).doc(
       "Axes (\"x\", \"y\", \"z\") along which the grid wraps: its upper face's nodes are its lower face's, "
       "and a point leaving one face enters at the other (an infinite slope, a layer without ends; "
-      "docs/boundaries.md, Periodic grids). Quasi-static runs without erosion, at least 3 cells along the axis, "
+      "docs/boundaries.md, Periodic grids). Quasi-static runs and explicit runs of dry soil, without erosion, at least 3 cells along the axis, "
       "no boundary condition on its faces");
   return s;
 }
@@ -86,16 +86,23 @@ void read_shape_function(SceneReader& r, Scene& scene) {
 
 }  // namespace
 
-// What a periodic grid does not yet wrap is refused: explicit runs (their
-// kernels scatter to the upper face's nodes), fines that move (their
-// transport over the dual cells sees the faces as walls), and a condition
-// on a face the grid wraps.
+// What a periodic grid does not yet wrap is refused: the liquid's and the
+// fines' transport over the grid's dual cells, which sees the faces as
+// walls (explicit saturated runs, their collapses, erosion, suspended
+// fines), and a condition on a face the grid wraps.
 void check_periodic_grid(SceneReader& r, const Scene& scene) {
   if (std::none_of(scene.grid_periodic.begin(), scene.grid_periodic.end(), [](bool b) { return b; })) return;
   const std::string ptr = "/grid/periodic", who = "core (grid)";
-  if (scene.integration != TimeIntegration::quasi_static)
-    r.error(ptr, "a periodic grid in an explicit run", "\"integration\": \"quasi_static\" in /time",
+  const bool explicit_steps = scene.integration != TimeIntegration::quasi_static;
+  if (scene.saturated() && explicit_steps)
+    r.error(ptr, "a periodic grid in an explicit run of saturated soil",
+            "dry soil, or \"integration\": \"quasi_static\" in /time (the explicit liquid's transport over the "
+            "grid's dual cells does not wrap yet)",
             "integration explicit", who);
+  if (scene.saturated() && !explicit_steps && scene.failure && scene.failure->collapse)
+    r.error("/failure/collapse", "a collapse on a periodic grid of saturated soil",
+            "no collapse, or dry soil (the explicit liquid's transport over the grid's dual cells does not wrap yet)",
+            show(r.root["failure"]["collapse"]), who);
   const bool suspended = std::any_of(scene.bodies.begin(), scene.bodies.end(),
                                      [](const BodySpec& b) { return b.concentration > 0; });
   if (scene.erodible() || suspended)
