@@ -433,6 +433,46 @@ std::vector<double> vtk_values(vtkDataSetAttributes* data, const char* name) {
 
 }  // namespace
 
+// On a periodic grid (the saturated infinite slope of test_periodic_grid)
+// the grid writer shows the seam's nodes once: the upper face's nodes carry
+// the values of the lower face's, which they are (mass, velocity, pore
+// pressure), not the part of them the points on one side give.
+TEST(EndToEnd, GridWriterShowsAPeriodicGridsSeamNodesAsOne) {
+  const fs::path out = fresh_dir("e2e_periodic_grid");
+  auto j = suffuse::test::read_json(suffuse::test::source_dir() / "share/scenes/infinite_slope.json");
+  j.erase("factor_of_safety");
+  j["liquids"] = {{"water", {{"type", "phase/pore_liquid"}, {"density", 1000.0}, {"bulk_modulus", 2.2e9},
+                             {"viscosity", 0.001}}}};
+  j["materials"]["sand"]["density"] = 2650.0;
+  j["materials"]["sand"]["permeability"] = {{"type", "permeability/constant"}, {"hydraulic_conductivity", 1e-4}};
+  j["bodies"][0]["liquid"] = "water";
+  j["bodies"][0]["porosity"] = 0.4;
+  j["time"]["end"] = 2000.0;
+  j["time"]["dt"] = 1000.0;
+  j["outputs"] = {{{"type", "writer/vtk_grid"}, {"interval", 1000.0}}};
+  std::ofstream(out / "layer.json") << j.dump(2);
+  ASSERT_EQ(run("run " + (out / "layer.json").string() + " --output " + out.string() + " --quiet", out / "log.txt"), 0)
+      << slurp(out / "log.txt");
+  const auto grid = read_pvd(out / "layer.pvd", 0);
+  ASSERT_FALSE(grid.empty());
+  vtkNew<vtkXMLImageDataReader> reader;
+  reader->SetFileName((out / grid.back().file).c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  ASSERT_EQ(image->GetNumberOfPoints(), 5 * 13);
+  int compared = 0;
+  for (const char* name : {"mass", "velocity", "pore_pressure"}) {
+    const auto v = vtk_values(image->GetPointData(), name);
+    const std::size_t k = v.size() / 65;
+    for (int row = 0; row < 13; ++row)
+      for (std::size_t c = 0; c < k; ++c) {
+        EXPECT_EQ(v[(row * 5 + 4) * k + c], v[(row * 5) * k + c]) << name << " at row " << row;
+        compared += v[(row * 5) * k + c] != 0;
+      }
+  }
+  EXPECT_GT(compared, 20);
+}
+
 // writer/vtk_grid on steady upward seepage (share/scenes/upward_seepage.json):
 // its nodal Darcy flux and pore pressure against the closed form (tolerances
 // of TwoPhase.SteadyUpwardSeepage, which checks the points), its cell

@@ -28,8 +28,12 @@ void weighted_mean(Domain& d, const Interpolation& shape, const double* w, const
         for (int c = 0; c < k; ++c) sums[1][I * k + c] += nw * f[p * k + c];
       });
   });
+  d.periodic.fold(weight, 1);  // a periodic grid's images: the nodes they are (mpm/periodic_grid.hpp)
+  d.periodic.fold(out.values, k);
   for (std::size_t I = 0; I < weight.size(); ++I)
     for (int c = 0; c < k; ++c) out.values[I * k + c] = weight[I] > 0 ? out.values[I * k + c] / weight[I] : 0.0;
+  d.periodic.copy_to_images(out.values, k);
+  d.periodic.copy_to_images(weight, 1);
 }
 
 }  // namespace
