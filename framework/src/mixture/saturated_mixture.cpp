@@ -75,7 +75,7 @@ SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry,
       for (const LiquidOpening& o : condition->liquid_openings())
         for (const std::int64_t I : o.nodes.empty() ? face_nodes(d_.grid, o.face) : o.nodes)
           open_nodes_.push_back({static_cast<std::size_t>(I), o.face.axis,
-                                 (o.face.upper ? 1.0 : -1.0) * face_node_area(d_.grid, o.face, I)});
+                                 (o.face.upper ? 1.0 : -1.0) * d_.periodic.face_area(d_.grid, o.face, I)});
   }
   const std::size_t nn = d_.grid.node_count();
   for (auto* v : {&node_drag_, &node_pressure_rate_}) v->assign(nn, 0.0);

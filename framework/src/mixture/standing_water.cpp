@@ -89,7 +89,7 @@ namespace {
 // the water's pressure twice, and a head prescribed there read 2 p.)
 template <int D>
 void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupports& s, const GridGeometry& grid,
-                          const WaterProfile& water, const double* x, const double* size, const double* volume,
+                          const PeriodicGrid& periodic, const WaterProfile& water, const double* x, const double* size, const double* volume,
                           const double* porosity, double* block) {
   const double gamma = water.unit_weight();
   const auto& cells = grid.cells();
@@ -116,6 +116,7 @@ void scatter_water_forces(std::size_t begin, std::size_t end, const PointSupport
     const double* lp = size + p * D;
     for (int a = 0; a < D; ++a)
       for (const bool upper : {false, true}) {
+        if (periodic.along(a)) break;  // the seam is no face: the body goes on across it
         const double plane = grid.origin()[a] + (upper ? cells[a] * grid.cell_size()[a] : 0.0);
         // The edge as uGIMP sees it (half the size, at most half a cell),
         // and how far inside the face (an edge pushed past it is on it).
@@ -169,7 +170,7 @@ void StandingWaterLoad::add_forces(Domain& d, const MixtureFields& f, NodeState&
   targets.add(block_);
   d.exec.scatter(pts.size(), targets, [&](std::size_t b, std::size_t e, double* const* out) {
     auto scatter = dim == 2 ? &scatter_water_forces<2> : &scatter_water_forces<3>;
-    scatter(b, e, d.shape.view(), d.grid, water, pts.data(c.position), pts.data(c.size), pts.data(c.volume),
+    scatter(b, e, d.shape.view(), d.grid, d.periodic, water, pts.data(c.position), pts.data(c.size), pts.data(c.volume),
             pts.data(f.porosity), out[0]);
   });
   d.for_nodes([&](int, std::size_t b, std::size_t e) {

@@ -1,5 +1,7 @@
 #include "mpm/periodic_grid.hpp"
 
+#include "suffuse/grid_face.hpp"
+
 namespace suffuse::detail {
 
 PeriodicGrid::PeriodicGrid(const GridGeometry& grid, const std::array<bool, 3>& axes)
@@ -44,6 +46,22 @@ void PeriodicGrid::wrap(double* x, std::size_t points) const {
       else if (xa >= upper_[a])
         xa -= upper_[a] - lower_[a];
     }
+}
+
+double PeriodicGrid::face_area(const GridGeometry& grid, GridFace face, std::int64_t node) const {
+  double area = face_node_area(grid, face, node);
+  if (!any()) return area;
+  if (this->node(node) != node) return 0.0;  // an image: its node has the area
+  const auto ijk = grid.node_ijk(node);
+  for (int b = 0; b < dim_; ++b)
+    if (b != face.axis && axes_[b] && ijk[b] == 0) area *= 2;
+  return area;
+}
+
+int PeriodicGrid::cell(int axis, int index) const {
+  const int cells = nodes_[axis] - 1;
+  if (!axes_[axis]) return index;
+  return ((index % cells) + cells) % cells;
 }
 
 }  // namespace suffuse::detail

@@ -30,6 +30,12 @@ class PeriodicGrid {
   void copy_to_images(std::vector<double>& nodal, int components) const;
   // Positions (dim per point) outside the period put back into it.
   void wrap(double* positions, std::size_t points) const;
+  // A face node's area (face_node_area) on the seam: an end node of a
+  // wrapped axis along the face has the whole width, its image none.
+  double face_area(const GridGeometry& grid, GridFace face, std::int64_t node) const;
+  // A cell's index along `axis` wrapped into the grid where the grid wraps
+  // along it (-1 is the last cell); unchanged along other axes.
+  int cell(int axis, int index) const;
 
  private:
   std::array<bool, 3> axes_{};

@@ -16,10 +16,13 @@ namespace suffuse::detail {
 
 namespace {
 // The saturated points counted in cell c (cell_count, per cell), or -1 for
-// a cell outside the grid.
-double saturated_points(const GridGeometry& grid, const std::vector<double>& cell_count, const std::array<int, 3>& c) {
+// a cell outside the grid (on a periodic axis the cells go on across the
+// seam).
+double saturated_points(const GridGeometry& grid, const PeriodicGrid& periodic, const std::vector<double>& cell_count,
+                        std::array<int, 3> c) {
   std::int64_t cell = 0, stride = 1;
   for (int a = 0; a < grid.dim(); ++a) {
+    c[a] = periodic.cell(a, c[a]);
     if (c[a] < 0 || c[a] >= grid.cells()[a]) return -1;
     cell += stride * c[a];
     stride *= grid.cells()[a];
@@ -82,7 +85,7 @@ void QuasiStatic::find_free_surfaces() {
     for (int corner = 0; corner < (1 << dim) && !surface[I]; ++corner) {
       auto c = ijk;
       for (int a = 0; a < dim; ++a) c[a] -= (corner >> a) & 1;
-      surface[I] = saturated_points(d_.grid, cell_count_, c) == 0;
+      surface[I] = saturated_points(d_.grid, d_.periodic, cell_count_, c) == 0;
     }
   }
   extrapolated_.clear();
@@ -145,12 +148,12 @@ std::optional<QuasiStatic::Extrapolated> QuasiStatic::extrapolation(std::size_t 
   // Whether the cells beyond I outward (-in), those touching its line,
   // hold no saturated point (the grid's edge is no surface).
   const auto open_beyond = [&](int a, int in) {
-    const int along = in < 0 ? ijk[a] : ijk[a] - 1;
+    const int along = d_.periodic.cell(a, in < 0 ? ijk[a] : ijk[a] - 1);
     if (along < 0 || along >= cells[a]) return false;
     for (int beside = 0; beside < (1 << (dim - 1)); ++beside) {
       auto c = ijk;
       for (int b = 0, bit = 0; b < dim; ++b) c[b] = b == a ? along : ijk[b] - ((beside >> bit++) & 1);
-      if (saturated_points(d_.grid, cell_count_, c) > 0) return false;
+      if (saturated_points(d_.grid, d_.periodic, cell_count_, c) > 0) return false;
     }
     return true;
   };

@@ -180,7 +180,7 @@ void QuasiStatic::prepare(double time, double dt) {
       for (const std::int64_t I : opening.nodes.empty() ? face_nodes(d_.grid, f) : opening.nodes) {
         if (node_pore_[I] <= 0) continue;
         const std::size_t k = static_cast<std::size_t>(I) * dim + f.axis;
-        const double area = face_node_area(d_.grid, f, I);
+        const double area = d_.periodic.face_area(d_.grid, f, I);  // (a periodic grid's seam: the whole width)
         if (!std::isnan(probe_.liquid_velocity[k]) && !std::isnan(probe_.velocity[k])) {
           // A prescribed flux: n (v_L - v_s) enters against the outward normal.
           const double nI = node_pore_[I] / node_volume_[I];

@@ -113,7 +113,14 @@ void check_periodic_grid(SceneReader& r, const Scene& scene) {
   const Json& bcs = r.root["boundary_conditions"];
   const std::vector<std::string> faces = grid_face_names();
   for (std::size_t i = 0; i < bcs.size(); ++i) {
-    if (!bcs[i].is_object() || !bcs[i].contains("face") || !bcs[i]["face"].is_string()) continue;
+    if (!bcs[i].is_object()) continue;
+    if (bcs[i].contains("concentration") && bcs[i]["concentration"].is_number() &&
+        bcs[i]["concentration"].get<double>() > 0)
+      r.error("/boundary_conditions/" + std::to_string(i) + "/concentration",
+              "fines carried in on a periodic grid",
+              "0 (the fines' transport over the grid's dual cells does not wrap yet)", show(bcs[i]["concentration"]),
+              who);
+    if (!bcs[i].contains("face") || !bcs[i]["face"].is_string()) continue;
     const auto f = std::find(faces.begin(), faces.end(), bcs[i]["face"].get<std::string>());
     if (f != faces.end() && scene.grid_periodic[static_cast<std::size_t>(f - faces.begin()) / 2])
       r.error("/boundary_conditions/" + std::to_string(i) + "/face", "a condition on a face the grid wraps",

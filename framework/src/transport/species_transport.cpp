@@ -165,7 +165,7 @@ void SpeciesTransport::setup_openings(const Scene& scene, const SaturatedMixture
       opened_by.push_back(pointer);
       Opening opening{o.face, {}, {}, {}};
       for (std::int64_t I : nodes) {
-        opening.nodes.push_back({I, face_node_area(d_.grid, o.face, I)});
+        opening.nodes.push_back({I, d_.periodic.face_area(d_.grid, o.face, I)});
         opening.ids.push_back(I);
         const std::size_t k = static_cast<std::size_t>(I) * dim + o.face.axis;
         inflow_liquid_[k] = suspension_density(o.concentration, rho_s, rho_w);
