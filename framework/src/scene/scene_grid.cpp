@@ -20,8 +20,8 @@ ParameterSchema grid_schema() {
   s.string_list("periodic").fallback(std::vector<std::string>{}).doc(
       "Axes (\"x\", \"y\", \"z\") along which the grid wraps: its upper face's nodes are its lower face's, "
       "and a point leaving one face enters at the other (an infinite slope, a layer without ends; "
-      "docs/boundaries.md, Periodic grids). Quasi-static runs and explicit runs of dry soil, without erosion, at least 3 cells along the axis, "
-      "no boundary condition on its faces");
+      "docs/boundaries.md, Periodic grids). Quasi-static runs and explicit runs of dry soil, without erosion, "
+      "at least 3 cells along the axis, no boundary condition on its faces");
   return s;
 }
 
