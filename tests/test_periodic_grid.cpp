@@ -72,6 +72,33 @@ std::vector<double> field(const suffuse::Simulation& sim, const char* name) {
   return {v.begin(), v.end()};
 }
 
+// Saturated elastic level ground on the periodic grid (vertical gravity, a
+// conductivity k [m/s]).
+nlohmann::json saturated_level_ground(double k) {
+  auto j = infinite_slope();
+  j.erase("factor_of_safety");
+  j["gravity"] = {0.0, -9.81};
+  make_elastic(j);
+  saturate(j, k);
+  return j;
+}
+
+// The scene run by quasi-static steps of dt (not grown) to `end`: the
+// point fields named, in that order.
+std::vector<std::vector<double>> fields_after_steps(nlohmann::json j, double dt, double end,
+                                                    const std::vector<const char*>& names) {
+  j["time"]["end"] = end;
+  j["time"]["dt"] = dt;
+  j["time"]["max_dt"] = dt;
+  suffuse::Registry registry;
+  const suffuse::Scene scene = scene_from(j, registry);
+  suffuse::Simulation sim(scene, registry);
+  while (sim.time() < end * (1 - 1e-12)) sim.step();
+  std::vector<std::vector<double>> out;
+  for (const char* name : names) out.push_back(field(sim, name));
+  return out;
+}
+
 }  // namespace
 
 // An elastic layer H = 5 m deep on a rigid rough base under gravity turned
@@ -249,24 +276,14 @@ TEST(Periodic, SaturatedInfiniteSlopeWithSeepageAlongIt) {
 // shear of 1.1% (docs/boundaries.md, Periodic grids).
 TEST(Periodic, SubmergedLayerCarriesItsBuoyantWeight) {
   for (const double carried : {0.0, 0.4}) {
-    auto j = infinite_slope();
-    j.erase("factor_of_safety");
-    j["gravity"] = {0.0, -9.81};
-    make_elastic(j);
-    saturate(j, 1e-4);
+    auto j = saturated_level_ground(1e-4);
     j["bodies"][0]["k0"] = 0.5;  // the skeleton carries its buoyant weight from the start (1 s is undrained)
     j["bodies"][0]["water_table"] = 6.0;
     j["boundary_conditions"][0]["vx"] = carried;
     if (carried > 0) j["shape_function"]["type"] = "shape/linear";
     j["boundary_conditions"].push_back({{"type", "bc/water_level"}, {"level", 6.0}});
-    j["time"]["end"] = 1.0;
-    j["time"]["dt"] = 0.25;
-    j["time"]["max_dt"] = 0.25;
-    suffuse::Registry registry;
-    const suffuse::Scene scene = scene_from(j, registry);
-    suffuse::Simulation sim(scene, registry);
-    while (sim.time() < 1 - 1e-9) sim.step();
-    const auto x = field(sim, "position"), p = field(sim, "pore_pressure"), s = field(sim, "stress");
+    const auto f = fields_after_steps(j, 0.25, 1.0, {"position", "pore_pressure", "stress"});
+    const auto &x = f[0], &p = f[1], &s = f[2];
     const double gamma_w = 9810, gamma_b = 0.6 * 1650 * 9.81;
     double worst_p = 0, worst_s = 0, shear = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -453,23 +470,13 @@ TEST(Periodic, ElasticLayerIn3DShearsAsAnInfiniteOne) {
 // the seam's base node takes the head once (the face's whole width there,
 // half of it on each side; before, it took it twice).
 TEST(Periodic, UpwardSeepageThroughTheSeamsBase) {
-  auto j = infinite_slope();
-  j.erase("factor_of_safety");
-  j["gravity"] = {0.0, -9.81};
   const double k = 1e-4, H = 5, head = 6;
-  make_elastic(j);
-  saturate(j, k);
+  auto j = saturated_level_ground(k);
   j["bodies"][0]["water_table"] = H;
   j["boundary_conditions"][0]["phase"] = "solid";  // the water crosses the base
   j["boundary_conditions"].push_back({{"type", "bc/pore_pressure"}, {"face", "bottom"}, {"head", head}});
-  j["time"]["end"] = 2000.0;
-  j["time"]["dt"] = 1000.0;
-  j["time"]["max_dt"] = 1000.0;
-  suffuse::Registry registry;
-  const suffuse::Scene scene = scene_from(j, registry);
-  suffuse::Simulation sim(scene, registry);
-  while (sim.time() < 2000 - 1e-9) sim.step();
-  const auto x = field(sim, "position"), p = field(sim, "pore_pressure"), q = field(sim, "darcy_flux");
+  const auto f = fields_after_steps(j, 1000.0, 2000.0, {"position", "pore_pressure", "darcy_flux"});
+  const auto &x = f[0], &p = f[1], &q = f[2];
   const double gamma_w = 9810, flow = k * (head - H) / H;
   double worst_p = 0, worst_q = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
