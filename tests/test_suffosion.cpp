@@ -372,8 +372,8 @@ TEST(Suffosion, LeveeCrestSettlesAfterOnset) {
 // 0.05 s, eroded_fraction_tolerance 5e-4), the foundation's erosion-induced
 // strain integrated in substeps: it runs through 12 s, the fines wash out
 // where the explicit run washes them out, most under the landside toe
-// (x = 3-4 m: 8.4% at 12 s, the first metre 1.3%; the explicit run at these
-// 20 cm cells: 8.2% and 1.0%), the crest settles (19 mm), and the ledger closes.
+// (x = 3-4 m: 8.3% at 12 s, the first metre 1.25%; the explicit run at these
+// 20 cm cells: 8.2% and 1.0%), the crest settles (18.7 mm), and the ledger closes.
 // With the default "explicit" integration the toe's points overshoot into
 // dilation, draw the river in, and the first metre erodes most (6.9%
 // against 3.9% at 10 s); that run then stops, finding no equilibrium

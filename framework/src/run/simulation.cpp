@@ -476,9 +476,10 @@ std::optional<double> Simulation::find_equilibrium() {
 }
 
 // The quasi-static step: the equilibrium at t + dt, then erosion and
-// transport in substeps short enough for the transport, with the Darcy flux
-// of that equilibrium. The skeleton responds to this step's erosion in the
-// next step's equilibrium.
+// transport in substeps short enough for the transport, the erosion with the
+// mean of the Darcy flux at t and at that equilibrium, the transport with the
+// equilibrium's. The skeleton responds to this step's erosion in the next
+// step's equilibrium.
 void Simulation::step_quasi_static() {
   const double t = clock_.time();
   const std::size_t n = clock_.steps();
@@ -491,6 +492,7 @@ void Simulation::step_quasi_static() {
     const auto held = quasi_static_->held_by(reactions_->condition(r));
     reactions_->add_equilibrium(r, held.force, held.displacement, dt);
   }
+  if (species_) species_->keep_flux_at_start();  // the erosion's flux: the mean of the step's start and end
   timed(Stage::g2p, [&] { quasi_static_->update_points(dt); });  // positions, strain, porosity, p, Darcy flux
   double transport_dt = dt;
   if (species_) {

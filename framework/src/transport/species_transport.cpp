@@ -188,6 +188,7 @@ bool SpeciesTransport::erode(double dt) {
   const FinesFields& f = *fines_;
   PointSet& pts = d_.points;
   const int dim = d_.dim();
+  const double* flux = step_mean_flux_.empty() ? pts.data(m_.darcy_flux) : step_mean_flux_.data();
   const SpeciesPoints pt{pts.data(pts.core().mass),     pts.data(f.skeleton_fines), pts.data(f.suspended_fines),
                          pts.data(m_.liquid_mass),      pts.data(f.eroded_mass),    pts.data(pts.core().volume),
                          pts.data(m_.porosity),         pts.data(m_.grain_density), pts.data(f.carrying_liquid)};
@@ -201,7 +202,7 @@ bool SpeciesTransport::erode(double dt) {
       for (std::size_t first = body.range.begin + b; first < body.range.begin + e; first += erosion_block) {
         const std::size_t begin = first, end = std::min(body.range.begin + e, first + erosion_block),
                           count = end - begin;
-        const ErosionInputs in{pts.data(m_.darcy_flux),          pts.data(m_.conductivity),
+        const ErosionInputs in{flux,                             pts.data(m_.conductivity),
                                pts.data(m_.water_density),       scratch.flux_magnitude.data(),
                                pts.data(f.hydraulic_gradient),   pts.data(f.fines_content),
                                pts.data(f.concentration),        scratch.carrier_share.data(),
@@ -462,9 +463,19 @@ void SpeciesTransport::start_step() {
   const auto fc = pts.values(fines_->fines_content), fer = pts.values(fines_->eroded_fraction);
   step_fines_content_.assign(fc.begin(), fc.end());
   step_eroded_fraction_.assign(fer.begin(), fer.end());
+  if (step_mean_flux_.empty()) return;  // no flux kept at the step's start
+  const auto end = pts.values(m_.darcy_flux);
+  for (std::size_t k = 0; k < end.size(); ++k) step_mean_flux_[k] = 0.5 * (step_mean_flux_[k] + end[k]);
+}
+
+void SpeciesTransport::keep_flux_at_start() {
+  if (!fines_) return;
+  const auto q = d_.points.values(m_.darcy_flux);
+  step_mean_flux_.assign(q.begin(), q.end());
 }
 
 void SpeciesTransport::finish_step() {
+  step_mean_flux_.clear();
   if (!fines_) return;
   PointSet& pts = d_.points;
   const double* fc = pts.data(fines_->fines_content);

@@ -63,7 +63,9 @@ class SpeciesTransport {
   void start_ledger();
 
   // Stage "erosion": each material's erosion law, applied at the points.
-  // Returns whether any point eroded or deposited.
+  // Returns whether any point eroded or deposited. The laws see the points'
+  // Darcy flux, or in a quasi-static step that kept its start's, the mean
+  // of the step's start and end (start_step).
   bool erode(double dt);
   // Water levels (bc/water_level): their clean water enters the bodies
   // through free surfaces below the level, at the level of the step's
@@ -84,6 +86,13 @@ class SpeciesTransport {
   // content and eroded fraction increments then span the whole step.
   void start_step();
   void finish_step();
+  // Before a quasi-static step's equilibrium replaces the points' Darcy
+  // flux: the step's substeps then erode with the mean of the flux at its
+  // start and at its end, not the end's alone (the highest of the step while
+  // a river rises), so that the erosion is second order in the step. One
+  // flux for every substep: a substep that erodes nothing tells that the
+  // rest erode nothing (the steady shortcut of Simulation::step_quasi_static).
+  void keep_flux_at_start();
   // The largest |increment of the eroded fraction| of a point over the last
   // step, over every process.
   double largest_eroded_fraction_increment() const;
@@ -145,6 +154,7 @@ class SpeciesTransport {
   std::vector<ErosionScratch> erosion_scratch_;
   std::vector<char> eroded_in_chunk_;  // per thread's chunk: some point eroded
   std::vector<double> step_fines_content_, step_eroded_fraction_;  // at the start of a quasi-static step
+  std::vector<double> step_mean_flux_;  // a quasi-static step's: its start's Darcy flux, then the mean (start_step)
 
   std::vector<Opening> openings_;
   // Per node and axis: what enters per volume, NaN: no inlet.
