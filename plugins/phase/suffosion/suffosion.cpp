@@ -21,11 +21,14 @@
 // relaxes q by 3 G 1e-3, 23 kPa at E = 20 MPa, against a p' of a few kPa),
 // and a quasi-static step that erodes 1e-3 of the solid at the step's
 // starting ratio overshoots it (docs/time-integration.md, Limits).
-//
-// d eps_s = A beta eta (1 - x^xi) / (M_c^2 (1 - x^2)) d f_er with x = eta/M_c:
-// both factors change sign at x = 1, where D = 0, so the ratio is taken in
-// that form, with its limit xi/2 where |1 - x^2| < 1e-8: no division by
-// zero, and d eps_s is finite and positive on both sides of M_c.
+// implicit: backward Euler, the ratio of the step's end, inside the stress
+// update: a quasi-static step's equilibrium carries the erosion-induced
+// strain of its own stresses, and its tangent the strain's dependence on
+// them (update_stress_eroding() below). A point its neighbours hold up
+// keeps its stress and takes the law's full strain of the step's erosion,
+// which "substeps", relaxing it from the step's start as if nothing held
+// it, caps at the point's slack (a levee's eroding ground settled more the
+// more steps it took: docs/time-integration.md).
 //
 // The void ratio follows the fines lost: e = (1 + e_0) exp(-eps_v) / (1 -
 // f_er) - 1, eps_v the skeleton's accumulated volumetric strain (the study's
@@ -44,49 +47,17 @@
 #include <suffuse/plugin.hpp>
 #include <suffuse/tensor.hpp>
 
+#include "implicit_erosion.hpp"
+#include "suffosion_law.hpp"
+
 namespace {
 
 namespace t = suffuse::tensor;
-
-// The study's relations, parameters parsed once.
-struct SuffosionLaw {
-  double M_so, f_so0, M_c, A, xi, beta, eta_max;
-
-  // Eroded fraction at which erosion starts to deform the skeleton.
-  double onset(double eta) const {
-    const double r = eta / M_so;
-    return r < 1 ? f_so0 * std::sqrt(1 - r * r) : 0.0;
-  }
-  // d eps_v / d f_er after onset (compression positive).
-  double volumetric_rate(double eta) const { return -A * std::expm1(xi * std::log(eta / M_c)); }
-  // d eps_s / d f_er after onset: volumetric_rate / D, finite at D = 0.
-  double shear_rate(double eta) const {
-    if (eta <= 0) return 0.0;
-    const double x = eta / M_c, one_minus_x2 = (1 - x) * (1 + x);
-    const double ratio = std::abs(one_minus_x2) < 1e-8 ? xi / 2 : -std::expm1(xi * std::log(x)) / one_minus_x2;
-    return A * beta * eta * ratio / (M_c * M_c);
-  }
-  // The erosion-induced strain of a step at stress ratio eta that takes the
-  // eroded fraction from f - df to f: only the part beyond the onset
-  // (deposition deforms nothing).
-  struct Strain {
-    double volumetric = 0, shear = 0;  // d eps_v (compression positive), d eps_s
-  };
-  Strain of_step(double eta, double f, double df) const {
-    const double active = std::max(0.0, f - std::max(f - df, onset(eta)));
-    if (active <= 0) return {};
-    return {volumetric_rate(eta) * active, shear_rate(eta) * active};
-  }
-};
-
-// A strain of volume d_ev (compression positive) and shear d_es along the
-// deviator `dev` of deviatoric stress q, as a tension-positive tensor
-// (Voigt): -d_ev/3 I + 3/2 d_es dev/q (3/2 s/q has eps_s 1).
-t::Voigt strain_tensor(const SuffosionLaw::Strain& e, const t::Voigt& dev, double q) {
-  t::Voigt out{};
-  for (int c = 0; c < 6; ++c) out[c] = (c < 3 ? -e.volumetric / 3 : 0.0) + (q > 0 ? 1.5 * e.shear * dev[c] / q : 0.0);
-  return out;
-}
+using suffosion::add;
+using suffosion::Direction;
+using suffosion::stress_of;
+using suffosion::strain_tensor;
+using suffosion::SuffosionLaw;
 
 class Suffosion final : public suffuse::Phase {
  public:
@@ -111,12 +82,15 @@ class Suffosion final : public suffuse::Phase {
     s.number("stress_ratio_limit").with_unit("-").above(0).fallback(1.0).doc(
         "eta above it is taken as it: the study's data reach 0.93, and the fits grow fast beyond (at a free "
         "surface p' tends to zero and eta to infinity)");
-    s.choice("integration", {"explicit", "substeps"}).fallback(std::string("explicit")).doc(
+    s.choice("integration", {"explicit", "substeps", "implicit"}).fallback(std::string("explicit")).doc(
         "How a step's erosion-induced strain is integrated. explicit: at the stress ratio of the step's start (the "
         "study's law as written; right where a step erodes little, as in explicit runs and the element tests). "
         "substeps: in substeps at the point's held total strain, each at the stress ratio the last left (the "
-        "point's own relaxation, with the base's elastic stiffness): for quasi-static steps that erode much where "
-        "the confinement is low");
+        "point's own relaxation, with the base's elastic stiffness), from the step's start. implicit: at the "
+        "stress ratio of the step's end (backward Euler), found in each stress update with the step's strain, and "
+        "with its consistent tangent: a quasi-static step's equilibrium then carries the strain of its own "
+        "stresses, and its result converges as the steps shrink (substeps caps a step's strain at the point's "
+        "slack)");
     s.number("initial_void_ratio").with_unit("-").above(0).may_be_absent().doc(
         "e_0, for a base that tracks no void ratio (phase/mohr_coulomb): the phase then reports void_ratio. A base "
         "that tracks one (phase/modified_cam_clay) gives e_0 at each point, and this is not used");
@@ -134,6 +108,7 @@ class Suffosion final : public suffuse::Phase {
              a.params.number("compaction_exponent"), a.params.number("dilatancy_factor"),
              a.params.number("stress_ratio_limit")},
         substeps_(a.params.string("integration") == "substeps"),
+        implicit_(a.params.string("integration") == "implicit"),
         e0_given_(a.params.maybe_number("initial_void_ratio")),
         where_(a.instance) {
     if (!base_) throw suffuse::Error(a.instance + ": phase/suffosion needs a base phase (\"base\")");
@@ -161,6 +136,17 @@ class Suffosion final : public suffuse::Phase {
     if (!e_ && e0_given_)
       e_ = points.add_field({"void_ratio", K::Scalar, "-", "void ratio e, with the fines lost", true});
     psi_ = points.find("state_parameter");
+    eigenstrain_ = points.find("eigenstrain");
+    eigenstrain_increment_ = points.find("eigenstrain_increment");
+    if (implicit_) {
+      // For the tangent (update_stress_eroding()).
+      volumetric_gradient_ = points.add_field({"erosion_volumetric_strain_gradient", K::SymmetricTensor, "-",
+                                               "implicit: d(the step's d eps_v)/d eps (engineering shear)", false});
+      shear_gradient_ = points.add_field({"erosion_shear_strain_gradient", K::SymmetricTensor, "-",
+                                          "implicit: d(the step's d eps_s)/d eps (engineering shear)", false});
+      shear_direction_ = points.add_field({"erosion_shear_direction", K::SymmetricTensor, "-",
+                                           "implicit: the strain of a unit d eps_s", false});
+    }
   }
 
   void initialise(suffuse::PointSet& points, suffuse::PointRange range) const override {
@@ -183,8 +169,10 @@ class Suffosion final : public suffuse::Phase {
   bool writes_eigenstrain() const override { return true; }
 
   // The base's own eigenstrain, if it writes one, plus the erosion-induced one.
+  // ("implicit": the base's only; update_stress adds the erosion's.)
   void eigenstrain(const suffuse::StressBatch& b, std::span<double> increment) const override {
     if (base_->writes_eigenstrain()) base_->eigenstrain(b, increment);
+    if (implicit_) return;
     suffuse::PointSet& pts = b.points;
     const double* stress = pts.data(pts.core().stress);
     const double* f = pts.data(f_);
@@ -226,15 +214,27 @@ class Suffosion final : public suffuse::Phase {
     return base_->elastic_stiffness(b, stiffness);
   }
 
-  // The base's: the erosion-induced strain is imposed, not a stiffness.
+  // The base's: the erosion-induced strain is imposed, not a stiffness;
+  // "implicit": less the base's times the derivative of the erosion's strain
+  // by the strain increment (soften_tangent()).
   bool tangent(const suffuse::StressBatch& b, std::span<double> stiffness) const override {
-    return base_->tangent(b, stiffness);
+    if (!implicit_) return base_->tangent(b, stiffness);
+    if (!base_->tangent(b, stiffness)) {  // the core's fallback, which the correction needs in hand
+      const double nu = 0.3, M = base_->p_wave_modulus();
+      const double G = M * (1 - 2 * nu) / (2 * (1 - nu)), K = M - 4 * G / 3;
+      for (std::size_t i = 0; i < b.range.size(); ++i) t::isotropic_stiffness(K, G, stiffness.data() + i * 36);
+    }
+    soften_tangent(b, stiffness);
+    return true;
   }
   // The base model's strength is the strength a strength reduction divides
   // (the erosion-induced strain adds none).
   bool reduces_strength() const override { return base_->reduces_strength(); }
   void update_stress(const suffuse::StressBatch& b) const override {
-    base_->update_stress(b);
+    if (implicit_)
+      update_stress_eroding(b);
+    else
+      base_->update_stress(b);
     if (!e_) return;
     suffuse::PointSet& pts = b.points;
     const double* L = pts.data(pts.core().velocity_gradient);
@@ -270,6 +270,105 @@ class Suffosion final : public suffuse::Phase {
   double onset_at(const double* s) const {
     const double mean = t::mean_stress(s);
     return mean > 0 ? law_.onset(std::min(t::deviatoric_stress(s) / mean, law_.eta_max)) : 1.0;
+  }
+
+  // Its tangent: the base's C, less C times the erosion's strain's
+  // derivative with respect to the strain increment. That strain is
+  // d eps_v along -I/3 and d eps_s along the fixed shear direction, so the
+  // derivative is two gradients (kept per point: d(d eps_v)/d eps and
+  // d(d eps_s)/d eps, and the shear direction), each by central
+  // differences of erode() (twelve more of its solves at an eroding point:
+  // the root's movement, the onset's and the slack's share all in it).
+  void update_stress_eroding(const suffuse::StressBatch& b) const {
+    suffuse::PointSet& pts = b.points;
+    const std::size_t n = b.range.size();
+    std::vector<double> imposed(n * 6, 0.0), erosion(n * 6, 0.0), stiffness;
+    if (!b.eigenstrain.empty()) std::copy(b.eigenstrain.begin(), b.eigenstrain.end(), imposed.begin());
+    elastic_stiffness_of(b, stiffness);
+    const double* stress = pts.data(pts.core().stress);
+    const double* L = pts.data(pts.core().velocity_gradient);
+    const double* f = pts.data(f_);
+    const double* df = pts.data(df_);
+    double* ev = pts.data(ev_);
+    double* es = pts.data(es_);
+    double* onset = pts.data(onset_);
+    double* grad_v = pts.data(volumetric_gradient_);
+    double* grad_s = pts.data(shear_gradient_);
+    double* shear_direction = pts.data(shear_direction_);
+    const int dim = pts.dim();
+    for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
+      const std::size_t i = p - b.range.begin;
+      const double* D = stiffness.data() + i * 36;
+      const double* start = stress + p * 6;
+      std::fill_n(grad_v + p * 6, 6, 0.0);
+      std::fill_n(grad_s + p * 6, 6, 0.0);
+      t::Voigt strain{};  // the step's strain increment less the base's eigenstrain (tensor shear)
+      for (int r = 0; r < dim; ++r)
+        for (int c = r; c < dim; ++c)
+          strain[t::voigt_index(r, c)] = 0.5 * (L[p * dim * dim + r * dim + c] + L[p * dim * dim + c * dim + r]) * b.dt;
+      for (int c = 0; c < 6; ++c) strain[c] -= imposed[i * 6 + c];
+      const t::Voigt trial = add(start, stress_of(D, strain), 1.0);
+      const double p_trial = t::mean_stress(trial.data());
+      if (!(std::max(t::mean_stress(start), p_trial) > 0)) {  // no confinement: no skeleton stress to deform under
+        onset[p] = 1.0;
+        continue;
+      }
+      // q along the start's deviator, or the trial's where the start has none.
+      const double q_start = t::deviatoric_stress(start);
+      const Direction along = q_start > 0 ? Direction{t::deviator(start), q_start}
+                                          : Direction{t::deviator(trial.data()), t::deviatoric_stress(trial.data())};
+      if (!(f[p] - std::max(f[p] - df[p], 0.0) > 0)) {  // erodes nothing
+        onset[p] = p_trial > 0 ? law_.onset(std::min(std::max(0.0, along.along(trial)) / p_trial, law_.eta_max)) : 1.0;
+        continue;
+      }
+      double eta = 0;
+      const SuffosionLaw::Strain d = erode(law_, start, strain, D, along, f[p], df[p], eta);
+      onset[p] = law_.onset(eta);
+      constexpr double h = 1e-9;  // of strain: D h is a few hundredths of a pascal
+      for (int c = 0; c < 6; ++c) {
+        t::Voigt up = strain, down = strain;
+        const double step = c < 3 ? h : h / 2;  // an engineering shear strain of h
+        up[c] += step, down[c] -= step;
+        double unused = 0;
+        const SuffosionLaw::Strain a = erode(law_, start, up, D, along, f[p], df[p], unused);
+        const SuffosionLaw::Strain z = erode(law_, start, down, D, along, f[p], df[p], unused);
+        grad_v[p * 6 + c] = (a.volumetric - z.volumetric) / (2 * h);
+        grad_s[p * 6 + c] = (a.shear - z.shear) / (2 * h);
+      }
+      const t::Voigt unit_shear = strain_tensor({0.0, 1.0}, along.dev, along.q);
+      std::copy(unit_shear.begin(), unit_shear.end(), shear_direction + p * 6);
+      const t::Voigt e = strain_tensor(d, along.dev, along.q);
+      ev[p] += d.volumetric;
+      es[p] += d.shear;
+      for (int c = 0; c < 6; ++c) imposed[i * 6 + c] += e[c], erosion[i * 6 + c] = e[c];
+    }
+    base_->update_stress(suffuse::StressBatch{pts, b.range, b.dt, imposed, b.strength_reduction});
+    for (const auto& field : {eigenstrain_, eigenstrain_increment_}) {
+      if (!field) continue;
+      double* total = pts.data(*field) + b.range.begin * 6;
+      for (std::size_t k = 0; k < n * 6; ++k) total[k] += erosion[k];
+    }
+  }
+
+  // C - (C v) d(d eps_v)/d eps - (C s) d(d eps_s)/d eps, v = -I/3 and s the
+  // shear direction (engineering shear), C the base's tangent.
+  void soften_tangent(const suffuse::StressBatch& b, std::span<double> stiffness) const {
+    const suffuse::PointSet& pts = b.points;
+    const double* grad_v = pts.data(volumetric_gradient_);
+    const double* grad_s = pts.data(shear_gradient_);
+    const double* shear_direction = pts.data(shear_direction_);
+    const t::Voigt volumetric = strain_tensor({1.0, 0.0}, {}, 0.0);
+    for (std::size_t p = b.range.begin; p < b.range.end; ++p) {
+      const double* gv = grad_v + p * 6;
+      const double* gs = grad_s + p * 6;
+      auto zero = [](const double* v) { return std::all_of(v, v + 6, [](double x) { return x == 0; }); };
+      if (zero(gv) && zero(gs)) continue;
+      double* C = stiffness.data() + (p - b.range.begin) * 36;
+      const double* sd = shear_direction + p * 6;
+      const t::Voigt Cv = stress_of(C, volumetric), Cs = stress_of(C, {sd[0], sd[1], sd[2], sd[3], sd[4], sd[5]});
+      for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) C[r * 6 + c] -= Cv[r] * gv[c] + Cs[r] * gs[c];
+    }
   }
 
   // The base's elastic stiffness of the batch's points, or an isotropic one
@@ -373,11 +472,13 @@ class Suffosion final : public suffuse::Phase {
 
   const suffuse::Phase* base_;
   SuffosionLaw law_;
-  bool substeps_;
+  bool substeps_, implicit_;
   std::optional<double> e0_given_;
   std::string where_;
   suffuse::FieldId f_ = 0, df_ = 0, ev_ = 0, es_ = 0, onset_ = 0, e0_ = 0, base_e_ = 0;
   std::optional<suffuse::FieldId> e_, psi_;
+  std::optional<suffuse::FieldId> eigenstrain_, eigenstrain_increment_;  // the core's, where it has them
+  suffuse::FieldId volumetric_gradient_ = 0, shear_gradient_ = 0, shear_direction_ = 0;  // "implicit" only
 };
 
 }  // namespace
