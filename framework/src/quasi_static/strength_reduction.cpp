@@ -58,8 +58,13 @@ SafetyFactor StrengthReduction::evaluate(double time, double dt) {
     }
   } put_back{*this};
   PointSet& pts = d_.points;
-  // No erosion in the solves: the step's eigenstrain increment is not imposed again.
+  // No erosion in the solves: the factor is the last equilibrium's. The
+  // step's eigenstrain increment is not imposed again, and the fines the
+  // step's transport has just eroded, whose void ratio and strain the next
+  // step applies, are not applied here (a phase that applies them in its
+  // stress update: phase/suffosion).
   if (const auto e = materials_.eigenstrain_increment_field()) std::fill_n(pts.data(*e), pts.size() * 6, 0.0);
+  if (const auto df = pts.find(coupling::eroded_fraction_increment)) std::fill_n(pts.data(*df), pts.size(), 0.0);
   strain_.assign(pts.size() * 6, 0.0);
   double lo = 1, hi = std::numeric_limits<double>::infinity();
   if (!holds(1.0, time, dt, result)) {
