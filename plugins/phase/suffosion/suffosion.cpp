@@ -219,11 +219,8 @@ class Suffosion final : public suffuse::Phase {
   // by the strain increment (soften_tangent()).
   bool tangent(const suffuse::StressBatch& b, std::span<double> stiffness) const override {
     if (!implicit_) return base_->tangent(b, stiffness);
-    if (!base_->tangent(b, stiffness)) {  // the core's fallback, which the correction needs in hand
-      const double nu = 0.3, M = base_->p_wave_modulus();
-      const double G = M * (1 - 2 * nu) / (2 * (1 - nu)), K = M - 4 * G / 3;
-      for (std::size_t i = 0; i < b.range.size(); ++i) t::isotropic_stiffness(K, G, stiffness.data() + i * 36);
-    }
+    // (The core's fallback where the base gives none: the correction needs it in hand.)
+    if (!base_->tangent(b, stiffness)) isotropic_fallback(b.range.size(), stiffness);
     soften_tangent(b, stiffness);
     return true;
   }
@@ -375,10 +372,12 @@ class Suffosion final : public suffuse::Phase {
   // of its P-wave modulus and Poisson's ratio 0.3 (the core's fallback).
   void elastic_stiffness_of(const suffuse::StressBatch& b, std::vector<double>& D) const {
     D.assign(b.range.size() * 36, 0.0);
-    if (base_->elastic_stiffness(b, D)) return;
+    if (!base_->elastic_stiffness(b, D)) isotropic_fallback(b.range.size(), D);
+  }
+  void isotropic_fallback(std::size_t points, std::span<double> D) const {
     const double nu = 0.3, M = base_->p_wave_modulus();
     const double G = M * (1 - 2 * nu) / (2 * (1 - nu)), K = M - 4 * G / 3;
-    for (std::size_t i = 0; i < b.range.size(); ++i) t::isotropic_stiffness(K, G, D.data() + i * 36);
+    for (std::size_t i = 0; i < points; ++i) t::isotropic_stiffness(K, G, D.data() + i * 36);
   }
 
   // A step's erosion-induced strain in substeps at the point's held total
