@@ -269,8 +269,11 @@ class Suffosion final : public suffuse::Phase {
     return mean > 0 ? law_.onset(std::min(t::deviatoric_stress(s) / mean, law_.eta_max)) : 1.0;
   }
 
-  // Its tangent: the base's C, less C times the erosion's strain's
-  // derivative with respect to the strain increment. That strain is
+  // "implicit": each eroding point's strain of the step by erode()
+  // (implicit_erosion.hpp: backward Euler from the elastic trial), imposed
+  // on the base's update with the base's own eigenstrain. For the tangent,
+  // the base's C less C times that strain's derivative with respect to
+  // the strain increment (soften_tangent()). That strain is
   // d eps_v along -I/3 and d eps_s along the fixed shear direction, so the
   // derivative is two gradients (kept per point: d(d eps_v)/d eps and
   // d(d eps_s)/d eps, and the shear direction), each by central
