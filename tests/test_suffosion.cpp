@@ -616,17 +616,17 @@ TEST(Suffosion, SubstepsBelowTheOnsetDeformNothing) {
   EXPECT_EQ(r.at(last, "erosion_shear_strain"), 0.0);
 }
 
-// "integration": "implicit": the substeps with the step's strain loading
-// the point as it erodes, in the stress update.
+// "integration": "implicit": the strain at the stress ratio of the step's
+// end (backward Euler), found in the stress update from the elastic trial.
 
 // The held sample's relaxation (above) in steps of backward Euler. The
 // sample starts above M_so with no onset, and relaxes onto its onset curve
 // within the first 1e-4 of erosion: one step takes that path at the
 // direction of its end (dilatancy at eta = 0.70, not the path's from 0.8),
 // whatever the step, so the error falls to a floor (measured: 0.93, 0.65
-// and 0.59% of p' in 4, 16 and 64 steps) and stays under 1%. Before the
-// root nearest the trial was taken, 4 and 16 steps left the sample slack
-// (p' = 0).
+// and 0.59% of p' in 4, 16 and 64 steps) and stays under 1%. A first
+// version, whose residual divided by p' (and took the cap where p' <= 0),
+// found a root at slack: 4 and 16 steps left the sample at p' = 0.
 TEST(Suffosion, ImplicitErosionOfAHeldSampleConvergesAsTheStepsShrink) {
   const HeldSample one = erode_held_sample("implicit", 1);
   const auto [p, q] = held_relaxation(one.p0, one.q0);
