@@ -130,6 +130,11 @@ enum class VolumetricStrain { point, cell_average };
 // (implicit u-p consolidation, steps bounded by the slow processes).
 enum class TimeIntegration { explicit_dynamics, quasi_static };
 
+// The direct solver that factorises a quasi-static step's linear systems on
+// one process (/time/linear_solver; on many, always PETSc's). automatic:
+// MUMPS on grids of QuasiStatic's threshold or more where the build has PETSc.
+enum class LinearSolver { automatic, mumps, eigen };
+
 // The step control of a quasi-static run (/time).
 struct QuasiStaticControls {
   double max_dt = 0;                     // [s] the largest step; 0: the first step's
@@ -142,6 +147,7 @@ struct QuasiStaticControls {
   double creep = 1e-4;                   // regularising stiffness, a fraction of the skeleton's
   bool reuse_factors = true;             // later Newton iterations: GMRES with an earlier iteration's factors
   bool inertia = false;                  // the mixture's inertia in the equilibrium (implicit dynamics)
+  LinearSolver linear_solver = LinearSolver::automatic;
 };
 
 struct Scene {

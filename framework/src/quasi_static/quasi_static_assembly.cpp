@@ -336,9 +336,7 @@ bool QuasiStatic::factorise_or_throw() {
   if (linear_->factorise()) return true;
   // A strength reduction's, or a run's under /failure: no equilibrium there.
   if (reduction_ || singular_fails_attempt_) return singular_ = true, false;
-  throw Error(std::string("the quasi-static system is singular: ") + Linear::singular +
-              "; or, where earlier steps found equilibria, the soil failing: a mechanism without stiffness (give the "
-              "scene a /failure section to stop there with its outputs and a checkpoint)");
+  throw Error(std::string("the quasi-static system is singular: ") + Linear::singular + Linear::failing);
 }
 
 }  // namespace suffuse::detail

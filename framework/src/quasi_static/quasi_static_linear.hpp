@@ -26,6 +26,9 @@ struct QuasiStatic::Linear {
   static constexpr const char* singular =
       "a body that nothing holds (check the velocity conditions), or pore pressure with no face to drain to and no "
       "storage";
+  static constexpr const char* failing =
+      "; or, where earlier steps found equilibria, the soil failing: a mechanism without stiffness (give the scene a "
+      "/failure section to stop there with its outputs and a checkpoint)";
   using Matrix = Eigen::SparseMatrix<double>;
   std::vector<Eigen::Triplet<double>> triplets;
   Matrix matrix;
