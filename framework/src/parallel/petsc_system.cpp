@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 
 #include <type_traits>
@@ -264,9 +265,12 @@ void PetscSystem::solve(std::span<const double> rhs, std::vector<double>& x) {
   check(VecAYPX(p.residual, -1.0, p.rhs), name_, "VecAYPX");
   check(VecNorm(p.rhs, NORM_2, &b_norm), name_, "VecNorm");
   check(VecNorm(p.residual, NORM_2, &r_norm), name_, "VecNorm");
-  if (!(r_norm <= 1e-8 * b_norm))
-    throw Error(name_ + ": the factorised system's solution leaves a residual of " + std::to_string(r_norm / b_norm) +
+  if (!(r_norm <= 1e-8 * b_norm)) {
+    char ratio[32];
+    std::snprintf(ratio, sizeof ratio, "%.2g", r_norm / b_norm);
+    throw Error(name_ + ": the factorised system's solution leaves a residual of " + ratio +
                 " of the right-hand side");
+  }
   check(VecCopy(p.diagonal, p.factor_diagonal), name_, "VecCopy");
   has_factors_ = true;
   gather_solution(x);
