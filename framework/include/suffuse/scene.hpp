@@ -132,8 +132,12 @@ enum class TimeIntegration { explicit_dynamics, quasi_static };
 
 // The direct solver that factorises a quasi-static step's linear systems on
 // one process (/time/linear_solver; on many, always PETSc's). automatic:
-// MUMPS on grids of QuasiStatic's threshold or more where the build has PETSc.
+// MUMPS on grids of mumps_from_grid_nodes or more where the build has PETSc
+// (the flood levee, 2,821 nodes: its first day in 8.0 s against Eigen's
+// 16.7; a levee on 615 nodes took 16 s against Eigen's 12, PETSc's set-up
+// of each solve costing more than the factorisation saves).
 enum class LinearSolver { automatic, mumps, eigen };
+inline constexpr std::size_t mumps_from_grid_nodes = 2000;
 
 // The step control of a quasi-static run (/time).
 struct QuasiStaticControls {

@@ -22,14 +22,10 @@ QuasiStatic::QuasiStatic(const Scene& scene, Domain& domain, const Materials& ma
       apply_loads_(std::move(apply_loads)), linear_(std::make_unique<Linear>()),
       singular_fails_attempt_(scene.failure.has_value()) {
   // On one process too where the scene asks for MUMPS or leaves it to the
-  // grid's size: the flood levee's factorisations (2,821 nodes, 5,600
-  // equations) took 0.08 s against Eigen's SparseLU's 0.24, its first day 8.0
-  // s against 16.7; a levee on 615 nodes took 16 s against 12, PETSc's set-up
-  // of each solve costing more than the factorisation.
-  constexpr std::size_t mumps_from_nodes = 2000;
+  // grid's size (scene.hpp, LinearSolver).
   const LinearSolver solver = scene.quasi_static.linear_solver;
   const bool mumps = solver == LinearSolver::mumps || (solver == LinearSolver::automatic && built_with_petsc() &&
-                                                       d_.grid.node_count() >= mumps_from_nodes);
+                                                       d_.grid.node_count() >= mumps_from_grid_nodes);
   if (d_.comm.parallel() || mumps)
     linear_->distributed = make_distributed_system(d_.comm, "the quasi-static step's solve", "suffuse_qs_");
   const std::size_t nn = d_.grid.node_count();

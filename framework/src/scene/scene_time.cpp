@@ -50,8 +50,10 @@ ParameterSchema time_schema() {
   s.choice("linear_solver", {"auto", "mumps", "eigen"}).fallback(std::string("auto")).doc(
       "Quasi-static only: the direct solver of each step's linear systems on one process. mumps: MUMPS through "
       "PETSc (multifrontal LU; the flood levee's factorisations about three times faster); eigen: "
-      "Eigen's SparseLU (COLAMD) or SimplicialLDLT; auto: mumps on grids of 2,000 nodes or more where this build "
-      "has PETSc, eigen otherwise (on smaller grids PETSc's set-up of each solve costs more than it saves). "
+      "Eigen's SparseLU (COLAMD) or SimplicialLDLT; auto: mumps on grids of " +
+      std::to_string(mumps_from_grid_nodes) +
+      " nodes or more where this build has PETSc, eigen otherwise (on smaller grids PETSc's set-up of each solve "
+      "costs more than it saves). "
       "Both reach the same equilibria within the Newton tolerance. On many processes always PETSc's");
   s.boolean("inertia").fallback(false).doc(
       "Quasi-static only: the mixture's inertia joins each step's balance (backward Euler: the nodal mass times "
