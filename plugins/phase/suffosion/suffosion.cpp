@@ -330,8 +330,8 @@ class Suffosion final : public suffuse::Phase {
         const double step = c < 3 ? h : h / 2;  // an engineering shear strain of h
         up[c] += step, down[c] -= step;
         double unused = 0;
-        const SuffosionLaw::Strain a = erode(law_, start, up, D, along, f[p], df[p], unused);
-        const SuffosionLaw::Strain z = erode(law_, start, down, D, along, f[p], df[p], unused);
+        const SuffosionLaw::Strain a = erode(law_, start, up, D, along, f[p], df[p], unused, eta);
+        const SuffosionLaw::Strain z = erode(law_, start, down, D, along, f[p], df[p], unused, eta);
         grad_v[p * 6 + c] = (a.volumetric - z.volumetric) / (2 * h);
         grad_s[p * 6 + c] = (a.shear - z.shear) / (2 * h);
       }

@@ -42,7 +42,11 @@ struct SuffosionLaw {
   Strain of_step(double eta, double f, double df) const {
     const double active = std::max(0.0, f - std::max(f - df, onset(eta)));
     if (active <= 0) return {};
-    return {volumetric_rate(eta) * active, shear_rate(eta) * active};
+    if (!(eta > 0)) return {volumetric_rate(eta) * active, 0.0};
+    // The two rates share (eta/M_c)^xi - 1: one exp and one log, not two each.
+    const double x = eta / M_c, one_minus_x2 = (1 - x) * (1 + x), power = std::expm1(xi * std::log(x));
+    const double ratio = std::abs(one_minus_x2) < 1e-8 ? xi / 2 : -power / one_minus_x2;
+    return {-A * power * active, A * beta * eta * ratio / (M_c * M_c) * active};
   }
 };
 
