@@ -308,7 +308,9 @@ TEST(Suffosion, ImplicitErosionAtConstantStressTakesTheLawsFullStrain) {
 // the onset and across it, at points that stay confined and points that go
 // slack. A Mohr-Coulomb base, elastic at these stresses. Each case checks
 // all 36 entries, within 1e-5 of E (the tangent is itself built from
-// central differences of the local solve).
+// central differences of the local solve). An update no tangent follows
+// (an explicit step's) skips those differences and returns the same
+// stress, bit for bit.
 TEST(Suffosion, ImplicitTangentIsTheDerivativeOfTheStep) {
   suffuse::Registry registry;
   suffuse::PluginLoader loader(registry);
@@ -355,17 +357,25 @@ TEST(Suffosion, ImplicitTangentIsTheDerivativeOfTheStep) {
     std::vector<std::vector<double>> saved;
     for (suffuse::FieldId id = 0; id < points.field_count(); ++id)
       saved.emplace_back(points.values(id).begin(), points.values(id).end());
-    auto stress_after = [&](const std::array<double, 6>& increment) {
+    auto stress_after = [&](const std::array<double, 6>& increment, bool tangent_follows = true) {
       for (suffuse::FieldId id = 0; id < points.field_count(); ++id)
         std::copy(saved[id].begin(), saved[id].end(), points.data(id));
       double* L = points.data(points.core().velocity_gradient);
       const int map[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) L[i * 3 + j] = increment[map[i][j]];
-      phase->update_stress(suffuse::StressBatch{points, {0, 1}, 1.0, {}});
+      phase->update_stress(suffuse::StressBatch{points, {0, 1}, 1.0, {}, 1.0, tangent_follows});
       return std::array<double, 6>{stress[0], stress[1], stress[2], stress[3], stress[4], stress[5]};
     };
+    // An explicit step's update (no tangent follows) skips the tangent's
+    // differences, and returns the same stress, bit for bit.
+    const auto explicit_step = stress_after(de, false);
+    std::vector<double> D_explicit(36), D_base(36);
+    ASSERT_TRUE(phase->tangent(suffuse::StressBatch{points, {0, 1}, 1.0, {}}, D_explicit));
+    ASSERT_TRUE(base->tangent(suffuse::StressBatch{points, {0, 1}, 1.0, {}}, D_base));
+    ASSERT_EQ(D_explicit, D_base) << "case " << k << ": a tangent asked anyway is the base's";
     const auto sigma = stress_after(de);
+    ASSERT_EQ(explicit_step, sigma) << "case " << k;
     const double ev = points.data(points.id("erosion_volumetric_strain"))[0];
     if (ev == 0) continue;
     const double p_end = suffuse::tensor::mean_stress(sigma.data());

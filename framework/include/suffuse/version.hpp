@@ -6,7 +6,7 @@
 namespace suffuse {
 
 inline constexpr int abi_major = 21;
-inline constexpr int abi_minor = 0;
+inline constexpr int abi_minor = 1;
 inline constexpr const char* framework_version = "0.21.8";
 
 }  // namespace suffuse

@@ -97,7 +97,7 @@ void Materials::impose_eigenstrain(Domain& d, double dt) const {
 void Materials::update_stress_with_imposed_eigenstrain(Domain& d, double dt, double strength_reduction) const {
   for_each_batch(d, [&](const Phase& phase, const PointRange& range) {
     phase.update_stress(
-        StressBatch{d.points, range, dt, imposed_eigenstrain(phase, d.points, range), strength_reduction});
+        StressBatch{d.points, range, dt, imposed_eigenstrain(phase, d.points, range), strength_reduction, true});
   });
 }
 
