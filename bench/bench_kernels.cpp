@@ -214,7 +214,7 @@ void stress_update(benchmark::State& state, bool tension_cutoff) {
     for (int c = 0; c < 6; ++c) sigma[k * 6 + c] = c < 3 ? -1e5 : 1e3 * s.stress[k * 6 + c];
   }
   for (auto _ : state) {
-    phase->update_stress(suffuse::StressBatch{points, {0, s.n}, 1.0, {}});
+    phase->update_stress(suffuse::StressBatch{points, {0, s.n}, 1.0, {}, 1.0, false});
     benchmark::DoNotOptimize(sigma);
   }
   done(state, s);

@@ -117,13 +117,15 @@ TEST(SuffosionSteps, ErodingGravelColumnConvergesWithTheStep) {
   EXPECT_NEAR(s / s4, 1.0, 0.02) << "settlement at the end";
   EXPECT_NEAR(f / f4, 1.0, 0.02) << "fines eroded at the end";
   // Newton near the solution: from 1e-3 of the forces to the tolerance
-  // (1e-8) in at most three iterations, as squaring the residual takes (1e-3,
-  // 1e-6 C, 1e-12 C^3, C about 100) or a contraction of 0.01 or better; one
-  // of 0.1, the elastic tangent's, takes five. Measured: most steps end in
-  // two; the slowest tail, 9.2e-4 1.6e-5 1.5e-7 1.3e-9, contracts by 0.01
-  // in its last two (no tangent holds the spin, and points change state).
-  // Far from it the iterations bring the ground's load back onto the
-  // eroding points: up to twenty of them (docs/time-integration.md).
+  // (1e-8) squaring the residual takes two or three iterations (1e-3, 1e-6
+  // C, 1e-12 C^3, C about 100), a contraction of 0.01 three, one of 0.1
+  // (an elastic tangent's) five. Asserted: at most four, a margin of one
+  // over the slowest measured. Most steps end in two; the slowest tail,
+  // 9.2e-4 1.6e-5 1.5e-7 1.3e-9, contracts by 0.01 in its last two, for a
+  // reason not identified (the column has no spin; points changing between
+  // yield, slack and the apex near the solution are the suspects). Far
+  // from it the iterations bring the ground's load back onto the eroding
+  // points: up to twenty of them (docs/time-integration.md).
   std::size_t most_near = 0;
   int steps_iterated = 0;
   for (const ColumnRun* r : {&run, &quarter})
@@ -137,7 +139,7 @@ TEST(SuffosionSteps, ErodingGravelColumnConvergesWithTheStep) {
   std::printf("Newton: %d steps iterated more than once; at most %zu iterations from 1e-3 of the forces\n",
               steps_iterated, most_near);
   EXPECT_GT(steps_iterated, 10);
-  EXPECT_LE(most_near, 3u);
+  EXPECT_LE(most_near, 4u);
   RecordProperty("settlement_relative_difference", suffuse::test::text(s / s4 - 1));
   RecordProperty("fines_relative_difference", suffuse::test::text(f / f4 - 1));
   RecordProperty("newton_iterations_from_1e-3", suffuse::test::text(static_cast<double>(most_near)));

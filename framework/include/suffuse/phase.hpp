@@ -66,12 +66,13 @@ struct StressBatch {
   // that reduces_strength() divides its strength by it in update_stress and
   // tangent (Mohr-Coulomb: c / F and tan(phi) / F). 1 in every step of a run.
   double strength_reduction = 1.0;
-  // update_stress only: true where the caller asks for tangent() of this
-  // update next (a quasi-static iterate), false in explicit steps. A phase
-  // whose tangent needs more than its update computes that only when asked
-  // (phase/suffosion "implicit": twelve more local solves per eroding
-  // point). Since plugin ABI 21.1.
-  bool tangent_follows = false;
+  // update_stress only: false where the caller will not ask for tangent()
+  // of this update (explicit steps, element tests); true where it may (a
+  // quasi-static iterate), and by default, so that a caller that forgets it
+  // loses time, not the tangent. A phase whose tangent needs more than its
+  // update computes that only when true (phase/suffosion "implicit":
+  // twelve more local solves per eroding point). Since plugin ABI 21.1.
+  bool tangent_follows = true;
 };
 
 // Strain and spin increments of a point over the step, 3x3 (zero out of

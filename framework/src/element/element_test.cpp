@@ -97,7 +97,7 @@ class Sample {
     // the stress as in a run.
     double* strain = points_.data(points_.core().strain);
     for (int c = 0; c < 6; ++c) strain_[c] += de[c], strain[c] += de[c];
-    phase.update_stress(StressBatch{points_, {0, 1}, 1.0, imposed});
+    phase.update_stress(StressBatch{points_, {0, 1}, 1.0, imposed, 1.0, false});
   }
 
   // One increment under mixed control: the unknown normal strains by Newton

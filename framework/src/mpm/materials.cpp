@@ -86,7 +86,7 @@ std::span<const double> Materials::imposed_eigenstrain(const Phase& phase, Point
 void Materials::update_stress(Domain& d, double dt) const {
   for_each_batch(d, [&](const Phase& phase, const PointRange& range) {
     impose_eigenstrain(phase, d.points, range, dt);
-    phase.update_stress(StressBatch{d.points, range, dt, imposed_eigenstrain(phase, d.points, range)});
+    phase.update_stress(StressBatch{d.points, range, dt, imposed_eigenstrain(phase, d.points, range), 1.0, false});
   });
 }
 

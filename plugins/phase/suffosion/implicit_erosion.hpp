@@ -1,7 +1,8 @@
 // phase/suffosion's "implicit" integration: a point's erosion-induced
 // strain of a step, at the stress ratio of the step's end (backward Euler),
 // from its strain increment. phase/suffosion calls erode() in its stress
-// update, once at the increment and twelve times more for its tangent.
+// update, once at the increment and, where a tangent may follow (a
+// quasi-static iterate), twelve times more for it.
 #pragma once
 
 #include <algorithm>
@@ -55,9 +56,9 @@ struct Direction {  // of q and of the erosion's shear strain
 // large step's strain takes p' past zero, and the point slack).
 // Found by the Illinois method (false position, halving the weight of an
 // end that stays), which keeps the bracket as bisection does but converges
-// superlinearly where bisection halved it fifty times: the stress update
-// of an eroding point is thirteen of these solves, and was most of a flood
-// levee's run (an eroding column ran six times as fast). `near` (the root at a neighbouring strain, for the
+// superlinearly where bisection halved it fifty times: an eroding point's
+// update in a quasi-static iterate is thirteen of these solves, and was
+// most of a flood levee's run (an eroding column ran six times as fast). `near` (the root at a neighbouring strain, for the
 // tangent's differences) brackets it first within 1e-6 of it.
 template <class EndAt>
 double end_ratio(const SuffosionLaw& law, const Direction& along, const EndAt& end_at, double near = -1) {

@@ -437,7 +437,8 @@ class Suffosion final : public suffuse::Phase {
         continue;
       }
       // Stress change per unit of erosion at this ratio, to size the substep.
-      const t::Voigt unit = stress_of(strain_tensor({law_.volumetric_rate(eta), law_.shear_rate(eta)}, dev, q0));
+      const SuffosionLaw::Rates rate = law_.rates(eta);
+      const t::Voigt unit = stress_of(strain_tensor({rate.volumetric, rate.shear}, dev, q0));
       const double change = std::max(std::abs(t::mean_stress(unit.data())), std::abs(along(unit)));
       const double step = std::min(f - done, stress_change * p / change * on_curve);
       // Heun: the strain at this ratio and at the ratio it would leave, averaged.

@@ -24,14 +24,18 @@ struct SuffosionLaw {
     const double r = eta / M_so;
     return r < 1 ? f_so0 * std::sqrt(1 - r * r) : 0.0;
   }
-  // d eps_v / d f_er after onset (compression positive).
-  double volumetric_rate(double eta) const { return -A * std::expm1(xi * std::log(eta / M_c)); }
-  // d eps_s / d f_er after onset: volumetric_rate / D, finite at D = 0.
-  double shear_rate(double eta) const {
-    if (eta <= 0) return 0.0;
-    const double x = eta / M_c, one_minus_x2 = (1 - x) * (1 + x);
-    const double ratio = std::abs(one_minus_x2) < 1e-8 ? xi / 2 : -std::expm1(xi * std::log(x)) / one_minus_x2;
-    return A * beta * eta * ratio / (M_c * M_c);
+  // d eps_v / d f_er (compression positive) and d eps_s / d f_er after
+  // onset: d eps_s = d eps_v / D, finite at D = 0. Both from (eta/M_c)^xi
+  // - 1: one exp and one log, the most of a root solve's evaluation.
+  struct Rates {
+    double volumetric, shear;
+  };
+  Rates rates(double eta) const {
+    const double x = eta / M_c, power = std::expm1(xi * std::log(x));
+    if (eta <= 0) return {-A * power, 0.0};
+    const double one_minus_x2 = (1 - x) * (1 + x);
+    const double ratio = std::abs(one_minus_x2) < 1e-8 ? xi / 2 : -power / one_minus_x2;
+    return {-A * power, A * beta * eta * ratio / (M_c * M_c)};
   }
   // The erosion-induced strain of a step at stress ratio eta that takes the
   // eroded fraction from f - df to f: only the part beyond the onset
@@ -42,11 +46,8 @@ struct SuffosionLaw {
   Strain of_step(double eta, double f, double df) const {
     const double active = std::max(0.0, f - std::max(f - df, onset(eta)));
     if (active <= 0) return {};
-    if (!(eta > 0)) return {volumetric_rate(eta) * active, 0.0};
-    // The two rates share (eta/M_c)^xi - 1: one exp and one log, not two each.
-    const double x = eta / M_c, one_minus_x2 = (1 - x) * (1 + x), power = std::expm1(xi * std::log(x));
-    const double ratio = std::abs(one_minus_x2) < 1e-8 ? xi / 2 : -power / one_minus_x2;
-    return {-A * power * active, A * beta * eta * ratio / (M_c * M_c) * active};
+    const Rates r = rates(eta);
+    return {r.volumetric * active, r.shear * active};
   }
 };
 
