@@ -18,6 +18,8 @@
 #include <vector>
 
 #include "suffosion_study.hpp"
+// The implicit integration's local solve, header-only in the plugin.
+#include "../plugins/phase/suffosion/implicit_erosion.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -398,6 +400,77 @@ TEST(Suffosion, ImplicitTangentIsTheDerivativeOfTheStep) {
   EXPECT_GT(confined, 50);
   EXPECT_GT(slack, 10);
   EXPECT_GT(onset_inside, 10);
+}
+
+// The implicit integration's root solve (implicit_erosion.hpp: the Illinois
+// method, and the bracket within 1e-6 of a neighbouring root that the
+// tangent's differences start from) finds the root plain bisection finds,
+// within 1e-14: at random stresses, strains and erosion, from no guess, from
+// the root itself, from a guess far from it (the bracket then fails and the
+// whole range is searched), from 0 and from eta_max; and the roots at the
+// ends of the range. Without shear (one case in fifty) the root is no
+// longer resolved: the residual is round-off over a range of ratios, and
+// either method may return any of them (their strains differ by 2e-4 of
+// themselves, 3e-7 of strain, where the onset is near).
+TEST(Suffosion, ImplicitRootIsTheRootBisectionFinds) {
+  namespace t = suffuse::tensor;
+  const suffosion::SuffosionLaw law{0.71, 0.02, 0.86, 0.85, 8.0, 1.5, 1.0};
+  std::vector<double> D(36);
+  t::isotropic_stiffness(20e6 / (3 * (1 - 2 * 0.3)), 20e6 / (2 * 1.3), D.data());
+  auto bisection = [&](const auto& residual) {
+    double lo = 0, hi = law.eta_max;
+    if (!(residual(lo) > 0)) return lo;
+    if (residual(hi) > 0) return hi;
+    for (int k = 0; k < 200 && hi - lo > 1e-16; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (residual(mid) > 0 ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  int at_zero = 0, at_limit = 0, inside = 0, unresolved = 0;
+  for (int k = 0; k < 1000; ++k) {
+    const double p = 2e3 + 98e3 * unit(rng), eta = 1.6 * unit(rng);
+    const double shear = k % 50 == 0 ? 0.0 : 1.0;  // some without shear: the root at 0
+    std::array<double, 6> start{-p - shear * 2 * eta * p / 3, -p + shear * eta * p / 3, -p + shear * eta * p / 3, 0, 0, 0};
+    for (int c = 3; c < 6; ++c) start[c] = shear * 0.05 * p * n(rng);
+    t::Voigt strain{};
+    for (int c = 0; c < 6; ++c) strain[c] = 5e-4 * n(rng);
+    const double f = 0.01 + 0.05 * unit(rng), df = 0.02 * unit(rng);
+    const t::Voigt trial = suffosion::add(start.data(), suffosion::stress_of(D.data(), strain), 1.0);
+    const double q_start = t::deviatoric_stress(start.data());
+    const suffosion::Direction along = q_start > 0 ? suffosion::Direction{t::deviator(start.data()), q_start}
+                                                   : suffosion::Direction{t::deviator(trial.data()),
+                                                                          t::deviatoric_stress(trial.data())};
+    auto end_at = [&](double ratio) {
+      return suffosion::add(trial.data(),
+                            suffosion::stress_of(D.data(), suffosion::strain_tensor(law.of_step(ratio, f, df),
+                                                                                    along.dev, along.q)),
+                            -1.0);
+    };
+    auto residual = [&](double r) {
+      const t::Voigt v = end_at(r);
+      return along.along(v) - r * std::max(t::mean_stress(v.data()), 0.0);
+    };
+    const double root = bisection(residual);
+    (root == 0 ? at_zero : root == law.eta_max ? at_limit : inside) += 1;
+    for (const double near : {-1.0, root, root + 0.3, root - 0.3, 0.0, law.eta_max, law.eta_max - 1e-7}) {
+      const double found = suffosion::end_ratio(law, along, end_at, near);
+      if (std::abs(found - root) <= 1e-14) continue;
+      // Without shear the residual is round-off (1e-11 Pa) over a range of
+      // ratios (up to 0.1 measured), each a root to round-off.
+      ASSERT_EQ(shear, 0.0) << "case " << k << ": a resolved root differs, near " << near;
+      ASSERT_LT(std::abs(residual(found)), 1e-15 * p) << "case " << k << ", p' " << p << ", near " << near;
+      ++unresolved;
+    }
+  }
+  std::printf("roots: %d at 0, %d at eta_max, %d inside; %d found elsewhere in a round-off residual\n", at_zero,
+              at_limit, inside, unresolved);
+  EXPECT_GT(at_zero, 10);
+  EXPECT_GT(at_limit, 0);
+  EXPECT_GT(inside, 500);
 }
 
 }  // namespace
