@@ -58,8 +58,9 @@ struct Direction {  // of q and of the erosion's shear strain
 // end that stays), which keeps the bracket as bisection does but converges
 // superlinearly where bisection halved it fifty times: an eroding point's
 // update in a quasi-static iterate is thirteen of these solves, and was
-// most of a flood levee's run (an eroding column ran six times as fast). `near` (the root at a neighbouring strain, for the
-// tangent's differences) brackets it first within 1e-6 of it.
+// most of a flood levee's run (an eroding column ran six times as fast).
+// `near` (the root at a neighbouring strain, for the tangent's
+// differences) brackets it first within 1e-6 of it.
 template <class EndAt>
 double end_ratio(const SuffosionLaw& law, const Direction& along, const EndAt& end_at, double near = -1) {
   auto residual = [&](double eta) {

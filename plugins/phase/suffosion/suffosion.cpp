@@ -326,22 +326,24 @@ class Suffosion final : public suffuse::Phase {
       double eta = 0;
       const SuffosionLaw::Strain d = erode(law_, start, strain, D, along, f[p], df[p], eta);
       onset[p] = law_.onset(eta);
-      // The tangent's gradients only where one is asked for next: not in an
-      // explicit step (a quasi-static run's collapse), where they were
-      // nearly all of the stress update's time.
-      constexpr double h = 1e-9;  // of strain: D h is a few hundredths of a pascal
-      for (int c = 0; c < 6 && b.tangent_follows; ++c) {
-        t::Voigt up = strain, down = strain;
-        const double step = c < 3 ? h : h / 2;  // an engineering shear strain of h
-        up[c] += step, down[c] -= step;
-        double unused = 0;
-        const SuffosionLaw::Strain a = erode(law_, start, up, D, along, f[p], df[p], unused, eta);
-        const SuffosionLaw::Strain z = erode(law_, start, down, D, along, f[p], df[p], unused, eta);
-        grad_v[p * 6 + c] = (a.volumetric - z.volumetric) / (2 * h);
-        grad_s[p * 6 + c] = (a.shear - z.shear) / (2 * h);
+      // The tangent's gradients only where one may be asked for next: not
+      // in an explicit step (a quasi-static run's collapse), where they
+      // were nearly all of the stress update's time.
+      if (b.tangent_follows) {
+        constexpr double h = 1e-9;  // of strain: D h is a few hundredths of a pascal
+        for (int c = 0; c < 6; ++c) {
+          t::Voigt up = strain, down = strain;
+          const double step = c < 3 ? h : h / 2;  // an engineering shear strain of h
+          up[c] += step, down[c] -= step;
+          double unused = 0;
+          const SuffosionLaw::Strain a = erode(law_, start, up, D, along, f[p], df[p], unused, eta);
+          const SuffosionLaw::Strain z = erode(law_, start, down, D, along, f[p], df[p], unused, eta);
+          grad_v[p * 6 + c] = (a.volumetric - z.volumetric) / (2 * h);
+          grad_s[p * 6 + c] = (a.shear - z.shear) / (2 * h);
+        }
+        const t::Voigt unit_shear = strain_tensor({0.0, 1.0}, along.dev, along.q);
+        std::copy(unit_shear.begin(), unit_shear.end(), shear_direction + p * 6);
       }
-      const t::Voigt unit_shear = strain_tensor({0.0, 1.0}, along.dev, along.q);
-      std::copy(unit_shear.begin(), unit_shear.end(), shear_direction + p * 6);
       const t::Voigt e = strain_tensor(d, along.dev, along.q);
       ev[p] += d.volumetric;
       es[p] += d.shear;
