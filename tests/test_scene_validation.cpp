@@ -326,7 +326,7 @@ TEST(SceneValidation, UnknownTopLevelKey) {
   json j = base_scene();
   j["gravty"] = {0.0, -9.81};
   expect_diagnostics(j, {{"/gravty", "unknown key",
-                          "one of {description, dimension, plugin_paths, gravity, damping, volumetric_strain, sort_points_at_spread, bodies, "
+                          "one of {description, dimension, plugin_paths, gravity, damping, damping_until, volumetric_strain, sort_points_at_spread, bodies, "
                           "boundary_conditions, factor_of_safety, failure, grid, liquids, materials, outputs, shape_function, time}",
                           "\"gravty\"", "core (scene)"}});
 }

@@ -170,6 +170,10 @@ struct Scene {
   std::vector<ReactionSpec> reactions;
   std::array<double, 3> gravity{};
   double damping = 0;  // local non-viscous damping coefficient
+  std::optional<double> damping_until;  // [s]; absent: the damping acts for the whole run
+  // The damping coefficient at time t: a damped start brings an explicit
+  // run to its own equilibrium under its first loads, then lets it move freely.
+  double damping_at(double t) const { return damping_until && t >= *damping_until ? 0.0 : damping; }
   VolumetricStrain volumetric_strain = VolumetricStrain::point;
   double sort_points_at_spread = 1.5;  // 0: the points keep their order (PointOrder)
   double end_time = 0;

@@ -291,7 +291,7 @@ class Simulation {
   void points_renumbered();
   void constrain_velocity(double time);
   // The same, measuring the reactions the scene asks for (the grid update's).
-  void constrain_velocity_recording_reactions(double time, double dt);
+  void constrain_velocity_recording_reactions(double time, double dt, double damping);
   void write_run_info(const std::filesystem::path& file) const;
   void refuse_what_one_process_only_runs() const;  // on many processes
   void check_time_step() const;  // refuses a fixed step above the stable one, and endless runs

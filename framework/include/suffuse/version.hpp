@@ -7,6 +7,6 @@ namespace suffuse {
 
 inline constexpr int abi_major = 21;
 inline constexpr int abi_minor = 1;
-inline constexpr const char* framework_version = "0.21.8";
+inline constexpr const char* framework_version = "0.21.9";
 
 }  // namespace suffuse

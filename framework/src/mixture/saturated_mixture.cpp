@@ -52,7 +52,7 @@ FieldInfo SaturatedMixture::potential_field() {
 SaturatedMixture::SaturatedMixture(const Scene& scene, const Registry& registry, Domain& domain,
                                    const std::vector<const Phase*>& phases,
                                    const std::vector<std::unique_ptr<BoundaryCondition>>& conditions)
-    : d_(domain), gravity_(scene.gravity), damping_(scene.damping), mass_scaling_(scene.mass_scaling), phases_(phases) {
+    : d_(domain), gravity_(scene.gravity), mass_scaling_(scene.mass_scaling), phases_(phases) {
   const int dim = scene.dim;
   for (const LiquidSpec& l : scene.liquids)
     liquids_.push_back(registry.create<Liquid>(l.liquid.type, {l.liquid.params, dim, l.liquid.pointer}));
@@ -208,12 +208,23 @@ void SaturatedMixture::points_to_grid() {
   if (drains) add_suction_on_openings(n.liquid_force.data());
 }
 
-void SaturatedMixture::integrate_grid(double dt) {
+void SaturatedMixture::integrate_grid(double dt, double damping) {
   NodeState& n = d_.nodes;
   auto update = d_.dim() == 2 ? &grid_update_saturated<2> : &grid_update_saturated<3>;
   d_.for_nodes([&](int, std::size_t b, std::size_t e) {
-    update(b, e, dt, damping_, n.mass.data(), n.momentum.data(), n.force.data(), n.liquid_mass.data(),
+    update(b, e, dt, damping, n.mass.data(), n.momentum.data(), n.force.data(), n.liquid_mass.data(),
            n.liquid_momentum.data(), n.liquid_force.data(), n.liquid_inertia.data(), node_drag_.data(),
+           n.velocity.data(), n.liquid_velocity.data());
+  });
+  free_velocity_ = n.velocity;
+  free_liquid_velocity_ = n.liquid_velocity;
+}
+
+void SaturatedMixture::drag_against_held_solid(NodeState& n, double dt) const {
+  auto redrag = d_.dim() == 2 ? &drag_against_held_solid_kernel<2> : &drag_against_held_solid_kernel<3>;
+  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
+    redrag(b, e, dt, n.mass.data(), n.liquid_mass.data(), n.liquid_momentum.data(), n.liquid_force.data(),
+           n.liquid_inertia.data(), node_drag_.data(), free_velocity_.data(), free_liquid_velocity_.data(),
            n.velocity.data(), n.liquid_velocity.data());
   });
 }

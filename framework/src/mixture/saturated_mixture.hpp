@@ -51,7 +51,7 @@ class SaturatedMixture final : public MomentumBalance {
   double stable_time_step(const BodySpec& body, const Phase& phase, double h) const;
 
   void points_to_grid() override;
-  void integrate_grid(double dt) override;
+  void integrate_grid(double dt, double damping) override;
   void accelerations(double dt) override;
   void grid_to_points(double dt) override;
   void remap() override;
@@ -71,6 +71,12 @@ class SaturatedMixture final : public MomentumBalance {
   // grid-face node no condition opens, the liquid's normal velocity is held
   // to the skeleton's. Called after the conditions' constraints.
   void hold_liquid_on_closed_faces(NodeState& nodes) const;
+  // Where a condition held the skeleton but left the liquid free, and the
+  // drag is semi-implicit: the liquid's velocity again, dragged by the
+  // skeleton's held velocity instead of the free one integrate_grid
+  // predicted (two_phase_kernels.hpp, drag_against_held_solid). Called after
+  // the conditions' constraints, before hold_liquid_on_closed_faces.
+  void drag_against_held_solid(NodeState& nodes, double dt) const;
 
   const MixtureFields& fields() const { return f_; }
   // Nodal Darcy flux n_I (v_L - v_s)_I of this step (dim per node), shared
@@ -105,7 +111,8 @@ class SaturatedMixture final : public MomentumBalance {
   Domain& d_;
   std::array<double, 3> gravity_;
   std::vector<std::optional<Drainage>> drains_;  // per material: its pores drain above the phreatic surface
-  double damping_, mass_scaling_;
+  std::vector<double> free_velocity_, free_liquid_velocity_;  // integrate_grid's, before the constraints
+  double mass_scaling_;
   std::vector<const Phase*> phases_;  // per material
   std::vector<std::unique_ptr<Liquid>> liquids_;
   std::vector<std::unique_ptr<PermeabilityLaw>> permeability_;  // per material, may be null

@@ -27,11 +27,11 @@ void DryMomentum::points_to_grid() {
   d_.periodic.fold(n.force, d_.dim());
 }
 
-void DryMomentum::integrate_grid(double dt) {
+void DryMomentum::integrate_grid(double dt, double damping) {
   NodeState& n = d_.nodes;
   auto update = d_.dim() == 2 ? &grid_update_kernel<2> : &grid_update_kernel<3>;
   d_.for_nodes([&](int, std::size_t b, std::size_t e) {
-    update(b, e, dt, damping_, n.mass.data(), n.momentum.data(), n.force.data(), n.velocity.data());
+    update(b, e, dt, damping, n.mass.data(), n.momentum.data(), n.force.data(), n.velocity.data());
   });
 }
 

@@ -10,8 +10,9 @@ class MomentumBalance {
   // Nodal masses, momenta and forces (internal, gravity) from the points.
   virtual void points_to_grid() = 0;
   // Nodal velocities at the end of the step from the forces, before the
-  // velocity constraints.
-  virtual void integrate_grid(double dt) = 0;
+  // velocity constraints; `damping` is the step's local damping coefficient
+  // (Scene::damping_at).
+  virtual void integrate_grid(double dt, double damping) = 0;
   // Nodal accelerations of the step, after the constraints.
   virtual void accelerations(double dt) = 0;
   // Point velocities (FLIP) and positions from the grid.

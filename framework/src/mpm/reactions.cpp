@@ -9,7 +9,7 @@
 
 namespace suffuse::detail {
 
-Reactions::Reactions(const std::vector<ReactionSpec>& specs, int dim, double damping) : dim_(dim), damping_(damping) {
+Reactions::Reactions(const std::vector<ReactionSpec>& specs, int dim) : dim_(dim) {
   for (const ReactionSpec& s : specs) records_.push_back({s.condition, s.name});
 }
 
@@ -26,7 +26,8 @@ void copy_velocities(const Domain& domain, std::vector<double>& into) {
 }
 }  // namespace
 
-void Reactions::start_constraints(const Domain& domain) {
+void Reactions::start_constraints(const Domain& domain, double damping) {
+  damping_ = damping;
   if (!records_.empty()) copy_velocities(domain, free_);
 }
 

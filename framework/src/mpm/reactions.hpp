@@ -35,11 +35,12 @@ namespace suffuse::detail {
 
 class Reactions {
  public:
-  Reactions(const std::vector<ReactionSpec>& specs, int dim, double damping);
+  Reactions(const std::vector<ReactionSpec>& specs, int dim);
 
   bool empty() const { return records_.empty(); }
-  // Before the step's first constraint: the free velocities of the grid update.
-  void start_constraints(const Domain& domain);
+  // Before the step's first constraint: the free velocities of the grid
+  // update, and the step's local damping (taken out of the reactions).
+  void start_constraints(const Domain& domain, double damping);
   // Condition `b` constrains the nodes' velocities; if its reaction is
   // recorded, what it changed over the step `dt` is measured.
   void constrain(std::size_t b, const BoundaryCondition& bc, Domain& domain,
@@ -69,7 +70,7 @@ class Reactions {
     double elapsed = 0;                               // time since the last row [s]
   };
   int dim_;
-  double damping_;  // the scene's local damping, taken out of the reactions
+  double damping_ = 0;  // the step's local damping, taken out of the reactions
   std::vector<Record> records_;
   std::vector<double> free_;    // nodal velocities of the grid update, before any constraint
   std::vector<double> before_;  // nodal velocities before this condition's constraint

@@ -40,6 +40,7 @@ void Simulation::write_run_info(const std::filesystem::path& file) const {
   info["mass_scaling"] = scene_.mass_scaling;
   info["end_time"] = scene_.end_time;
   info["damping"] = scene_.damping;
+  if (scene_.damping_until) info["damping_until"] = *scene_.damping_until;
   info["threads"] = threads();
   info["kernels"] = kernels();
   info["saturated"] = saturated();

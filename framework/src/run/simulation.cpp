@@ -77,7 +77,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
     : scene_((detail::check_memory(scene), scene)),  // before anything is allocated
       domain_(std::make_unique<detail::Domain>(scene, registry, threads)),
       materials_(std::make_unique<detail::Materials>(scene, registry)),
-      reactions_(std::make_unique<detail::Reactions>(scene.reactions, scene.dim, scene.damping)) {
+      reactions_(std::make_unique<detail::Reactions>(scene.reactions, scene.dim)) {
   const int dim = scene.dim;
   if (scene.factor_of_safety && !materials_->reduces_strength())
     throw Error("/factor_of_safety: no material's phase reduces its strength, so no factor of safety exists "
@@ -96,7 +96,7 @@ Simulation::Simulation(const Scene& scene, const Registry& registry, int threads
   }
   refuse_or_keep_standing_water();
   if (!scene.saturated()) {
-    dry_ = std::make_unique<detail::DryMomentum>(*domain_, scene.gravity, scene.damping, scene.mass_scaling);
+    dry_ = std::make_unique<detail::DryMomentum>(*domain_, scene.gravity, scene.mass_scaling);
     momentum_ = dry_.get();
   }
   materials_->add_fields(domain_->points);
@@ -368,11 +368,14 @@ void Simulation::constrain_velocity(double time) {
   domain_->periodic.copy_to_images(domain_->nodes.velocity, scene_.dim);  // (a condition on a box may hold one)
 }
 
-void Simulation::constrain_velocity_recording_reactions(double time, double dt) {
-  reactions_->start_constraints(*domain_);
+void Simulation::constrain_velocity_recording_reactions(double time, double dt, double damping) {
+  reactions_->start_constraints(*domain_, damping);
   for (std::size_t b = 0; b < bcs_.size(); ++b)
     reactions_->constrain(b, *bcs_[b], *domain_, time, dt);
-  if (mixture_) mixture_->hold_liquid_on_closed_faces(domain_->nodes);
+  if (mixture_) {
+    mixture_->drag_against_held_solid(domain_->nodes, dt);
+    mixture_->hold_liquid_on_closed_faces(domain_->nodes);
+  }
 }
 
 void Simulation::step() {
@@ -396,13 +399,14 @@ void Simulation::locate_points() {
 // between dry and saturated runs.
 void Simulation::step_explicit() {
   const double t = clock_.time(), dt = clock_.dt();
+  const double damping = scene_.damping_at(t);  // (a damped start's ends at /damping_until)
   const std::size_t n = clock_.steps();
   detail::Domain& d = *domain_;
   timed(Stage::p2g, [&] { momentum_->points_to_grid(); });      // nodal mass, momentum, forces
   timed(Stage::grid, [&] {
     apply_loads(d.nodes, t);
-    momentum_->integrate_grid(dt);                              // nodal velocities at t + dt
-    constrain_velocity_recording_reactions(t + dt, dt);
+    momentum_->integrate_grid(dt, damping);                     // nodal velocities at t + dt
+    constrain_velocity_recording_reactions(t + dt, dt, damping);
     momentum_->accelerations(dt);
   });
   timed(Stage::g2p, [&] { momentum_->grid_to_points(dt); });    // point velocities and positions

@@ -25,7 +25,12 @@ ParameterSchema top_level_schema() {
   s.vector("gravity").with_unit("m/s^2").fallback(std::vector<double>{}).doc(
       "Gravitational acceleration, one component per dimension (default zero)");
   s.number("damping").at_least(0).below(1).with_unit("-").fallback(0.0).doc(
-      "Local non-viscous damping coefficient for quasi-static problems (0: none)");
+      "Local non-viscous (Cundall) damping coefficient of explicit runs: a force opposing each node's motion, this "
+      "fraction of its unbalanced force; brings a run to rest under its loads (0: none)");
+  s.number("damping_until").with_unit("s").above(0).may_be_absent().doc(
+      "The time at which the damping stops (absent: it acts for the whole run). A damped start: the run comes to "
+      "rest at its own equilibrium under gravity and its first loads, then moves freely, undamped, under what "
+      "changes later (docs/time-integration.md, A damped start)");
   s.choice("volumetric_strain", {"point", "cell_average"}).fallback(std::string("point")).doc(
       "point: each point's volumetric strain rate from its own velocity gradient; cell_average: the "
       "volume-weighted mean over the points of its cell, the deviatoric part kept (removes the volumetric locking "
@@ -52,6 +57,12 @@ void read_top_level(SceneReader& r, Scene& scene) {
   // A value that failed validation is absent: read only what is there.
   if (top.has("description")) scene.description = top.string("description");
   if (top.has("damping")) scene.damping = top.number("damping");
+  scene.damping_until = top.maybe_number("damping_until");
+  // (A /damping that failed validation has its own error.)
+  const bool given = r.root.contains("damping");
+  if (scene.damping_until && (!given || (r.root["damping"].is_number() && r.root["damping"] == 0)))
+    r.error("/damping_until", "an end of damping without damping", "a /damping above 0, or no /damping_until",
+            given ? "/damping 0" : "no /damping", "core (scene)");
   if (top.has("sort_points_at_spread")) scene.sort_points_at_spread = top.number("sort_points_at_spread");
   if (top.has("volumetric_strain") && top.string("volumetric_strain") == "cell_average")
     scene.volumetric_strain = VolumetricStrain::cell_average;
