@@ -95,22 +95,31 @@ void SaturatedMixture::update_potential(double dt) {
                               pts.data(f_.pressure_rate),  pts.data(*f_.potential),    pts.data(f_.pressure),
                               pts.data(*f_.saturation),    pts.data(f_.moving_liquid_mass)};
   d_.exec.for_chunks(np, [&](int, std::size_t b, std::size_t e) { potential_rate(b, e, dt, drains_.data(), drained); });
+  // The rates are smoothed among the points whose pores are full and,
+  // apart, among those that drain (drained_pores.hpp, g2p_potential).
+  full_porosity_.resize(np);
+  draining_porosity_.resize(np);
+  d_.exec.for_chunks(np, [&](int, std::size_t b, std::size_t e) {
+    split_by_drainage(b, e, drains_.data(), drained, full_porosity_.data(), draining_porosity_.data());
+  });
+  node_draining_rate_.resize(d_.grid.node_count());
   const Interpolation& s = d_.shape;
-  d_.clear_nodal(block_, 2);
-  ScatterTargets targets = s.targets(d_.grid.node_count());
-  targets.add(block_);
-  d_.exec.scatter(np, targets, [&](std::size_t b, std::size_t e, double* const* out) {
-    d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-      p2g_pressure_rate<D, L>(b, e, s.view(), pts.data(c.volume), pts.data(f_.porosity), drained.rate, out[0]);
+  for (const auto& [porosity, node_rate] : {std::pair{&full_porosity_, &node_pressure_rate_},
+                                            std::pair{&draining_porosity_, &node_draining_rate_}}) {
+    d_.clear_nodal(block_, 2);
+    ScatterTargets targets = s.targets(d_.grid.node_count());
+    targets.add(block_);
+    d_.exec.scatter(np, targets, [&](std::size_t b, std::size_t e, double* const* out) {
+      d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
+        p2g_pressure_rate<D, L>(b, e, s.view(), pts.data(c.volume), porosity->data(), drained.rate, out[0]);
+      });
     });
-  });
-  d_.for_nodes([&](int, std::size_t b, std::size_t e) {
-    nodal_pressure_rate(b, e, block_.data(), node_pressure_rate_.data());
-  });
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) { nodal_pressure_rate(b, e, block_.data(), node_rate->data()); });
+  }
   using Drains = std::optional<Drainage>;
   auto gather = d_.dim() == 2 ? &g2p_potential<2, Drains> : &g2p_potential<3, Drains>;
   d_.exec.for_chunks(np, [&](int, std::size_t b, std::size_t e) {
-    gather(b, e, dt, s.view(), node_pressure_rate_.data(), drains_.data(), drained);
+    gather(b, e, dt, s.view(), node_pressure_rate_.data(), node_draining_rate_.data(), drains_.data(), drained);
   });
 }
 

@@ -119,6 +119,9 @@ class SaturatedMixture final : public MomentumBalance {
   std::vector<std::string> permeability_names_;                 // for messages, as phases are named
   MixtureFields f_{};
   std::vector<double> node_drag_, node_pressure_rate_, node_darcy_;
+  // update_potential: the porosity of the points whose pores are full (else
+  // 0) and of those that drain (else 0), and the latter's nodal rate.
+  std::vector<double> full_porosity_, draining_porosity_, node_draining_rate_;
   std::vector<double> block_;  // a scatter's per-node sums (saturated_block, the remap's, the pressure rate's)
   std::vector<double> wet_porosity_, wet_conductivity_, suction_force_, node_suction_;  // prepare_drained_pores
   struct OpenNode {  // a node of a face open to the liquid: its number, axis, outward sign times area
