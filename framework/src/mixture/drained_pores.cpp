@@ -104,17 +104,20 @@ void SaturatedMixture::update_potential(double dt) {
   });
   node_draining_rate_.resize(d_.grid.node_count());
   const Interpolation& s = d_.shape;
-  for (const auto& [porosity, node_rate] : {std::pair{&full_porosity_, &node_pressure_rate_},
-                                            std::pair{&draining_porosity_, &node_draining_rate_}}) {
+  // (Named pointers, not a structured binding: clang 14 lets no lambda capture one.)
+  for (const auto& pass : {std::pair{&full_porosity_, &node_pressure_rate_},
+                           std::pair{&draining_porosity_, &node_draining_rate_}}) {
+    const double* porosity = pass.first->data();
+    double* node_rate = pass.second->data();
     d_.clear_nodal(block_, 2);
     ScatterTargets targets = s.targets(d_.grid.node_count());
     targets.add(block_);
     d_.exec.scatter(np, targets, [&](std::size_t b, std::size_t e, double* const* out) {
       d_.exec.vector_kernel(d_.dim(), [&]<int D, int L>() {
-        p2g_pressure_rate<D, L>(b, e, s.view(), pts.data(c.volume), porosity->data(), drained.rate, out[0]);
+        p2g_pressure_rate<D, L>(b, e, s.view(), pts.data(c.volume), porosity, drained.rate, out[0]);
       });
     });
-    d_.for_nodes([&](int, std::size_t b, std::size_t e) { nodal_pressure_rate(b, e, block_.data(), node_rate->data()); });
+    d_.for_nodes([&](int, std::size_t b, std::size_t e) { nodal_pressure_rate(b, e, block_.data(), node_rate); });
   }
   using Drains = std::optional<Drainage>;
   auto gather = d_.dim() == 2 ? &g2p_potential<2, Drains> : &g2p_potential<3, Drains>;
