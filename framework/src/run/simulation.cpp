@@ -399,7 +399,7 @@ void Simulation::locate_points() {
 // between dry and saturated runs.
 void Simulation::step_explicit() {
   const double t = clock_.time(), dt = clock_.dt();
-  const double damping = scene_.damping_at(t);  // (a damped start's ends at /damping_until)
+  const double damping = scene_.damping_at(t);  // (zero from /damping_until on: a damped start)
   const std::size_t n = clock_.steps();
   detail::Domain& d = *domain_;
   timed(Stage::p2g, [&] { momentum_->points_to_grid(); });      // nodal mass, momentum, forces
