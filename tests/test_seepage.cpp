@@ -124,10 +124,10 @@ TEST(Seepage, PartsOfAFaceAreRefusedWhereTheyCannotBeBooked) {
 // its river bed (docs/boundaries.md): here 15.6 kPa below hydrostatic at
 // the wall's foot, 3e-4 of the block's water through the wall. Asserted
 // after 0.5 s: the pressure 0.5 m or more from the top corner on the river
-// within 1% of gamma_w H of hydrostatic (measured ${away}), everywhere
-// within 5% (${pressure}: at that corner, where the river's face meets the
+// within 1% of gamma_w H of hydrostatic (measured 152 Pa), everywhere
+// within 5% (561 Pa: at that corner, where the river's face meets the
 // free surface, a checkerboard of up to 2.9% in its two cells), and
-// the water through the wall below 1e-4 of the block's (${through}).
+// the water through the wall below 1e-4 of the block's (3e-6).
 TEST(Seepage, AWallOpenToTheRiverHoldsTheSkeletonNotTheWater) {
   const double gamma_w = 9810, H = 2.0;
   json scene = json::parse(R"({

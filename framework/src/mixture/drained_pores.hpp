@@ -88,16 +88,23 @@ void potential_rate(std::size_t begin, std::size_t end, double dt, const Drains*
   }
 }
 
-// The points whose pores are full (a material without a retention curve, or
-// psi >= 0) and those that drain (psi < 0): each one's porosity in its own
-// array, zero in the other, for the two smoothings of the potential's rate.
+// Whether point p's pores are draining (psi < 0 where its material has a
+// retention curve), or full: which of the two smoothings of the potential's
+// rate it joins (split_by_drainage) and reads (g2p_potential).
+template <class Drains>
+bool draining(const Drains* drains, const DrainedPoints& pt, std::size_t p) {
+  return drains[static_cast<std::size_t>(pt.material[p])] && pt.potential[p] < 0;
+}
+
+// Each point's porosity in the array of its kind (draining or full), zero in
+// the other, for the two smoothings of the potential's rate.
 template <class Drains>
 void split_by_drainage(std::size_t begin, std::size_t end, const Drains* drains, const DrainedPoints& pt,
-                       double* full, double* draining) {
+                       double* full, double* draining_pores) {
   for (std::size_t p = begin; p < end; ++p) {
-    const bool drains_here = drains[static_cast<std::size_t>(pt.material[p])] && pt.potential[p] < 0;
+    const bool drains_here = draining(drains, pt, p);
     full[p] = drains_here ? 0.0 : pt.porosity[p];
-    draining[p] = drains_here ? pt.porosity[p] : 0.0;
+    draining_pores[p] = drains_here ? pt.porosity[p] : 0.0;
   }
 }
 
@@ -126,7 +133,7 @@ void g2p_potential(std::size_t begin, std::size_t end, double dt, const PointSup
     const double n = pt.porosity[p];
     if (n <= 0) continue;
     const auto& d = drains[static_cast<std::size_t>(pt.material[p])];
-    const double* smoothed = d && pt.potential[p] < 0 ? node_draining_rate : node_rate;
+    const double* smoothed = draining(drains, pt, p) ? node_draining_rate : node_rate;
     double rate = 0;
     for_each_weight<D>(s, p, [&](std::size_t node, double N) { rate += N * smoothed[node]; });
     const double next = pt.potential[p] + rate * dt, S = d ? d->saturation(next, pt.water_density[p]) : 1.0;
